@@ -1,0 +1,1 @@
+"""Analyses built on the solver: Geneva drives, centrodes, rolling levers, contact."""

@@ -1,0 +1,146 @@
+"""Headless command line: ``mechsketch analyze|validate|export|synthesize|centrodes SCENE ...``.
+
+Every number the GUI shows can be reproduced here. Element types plug in through
+:data:`HANDLERS`: a module per type with the functions a command needs (see ``_call``).
+Exit status: 0 ok, 1 a problem with the scene or the request (message on stderr), 2 usage.
+"""
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+from typing import Any, Sequence
+
+from ..errors import MechsketchError
+from ..io.scene_file import load_scene, validate_file
+from ..io.table import write_csv
+
+#: element type -> module implementing its commands. A module may define
+#: ``analyze(element, samples) -> Analysis``, ``export(element, path, tolerance) -> str``,
+#: ``synthesize(element) -> Analysis``, ``centrodes(element, link, relative_to, samples) -> Table``.
+HANDLERS: dict[str, str] = {
+    "linkage": "mechsketch.core.cli.linkage_cmds",
+    "geneva": "mechsketch.core.cli.geneva_cmds",
+    "rolling_lever": "mechsketch.core.cli.rolling_cmds",
+}
+
+
+class CliError(MechsketchError, ValueError):
+    """A request the CLI cannot carry out (unknown element, command not for this type)."""
+
+
+def _handler(element: Any, command: str):
+    name = HANDLERS.get(element.type)
+    module = importlib.import_module(name) if name else None
+    fn = getattr(module, command, None) if module else None
+    if fn is None:
+        raise CliError(f"'{command}' does not apply to element {element.id!r} of type {element.type!r}")
+    return fn
+
+
+def _pick(scene, element_id: str | None, command: str):
+    if element_id is not None:
+        try:
+            return scene.element(element_id)
+        except KeyError as exc:
+            raise CliError(exc.args[0]) from None
+    for e in scene.elements:
+        module = importlib.import_module(HANDLERS[e.type]) if e.type in HANDLERS else None
+        if module is not None and hasattr(module, command):
+            if len(scene.elements) > 1:
+                print(f"note: using element {e.id!r} (choose with --element ID)", file=sys.stderr)
+            return e
+    raise CliError(f"the scene has no element that '{command}' applies to")
+
+
+def _emit(analysis, csv_target: str | None, summary: bool) -> None:
+    """Write the table and/or the summary; the summary goes to stderr when the CSV is on stdout."""
+    if csv_target is not None:
+        write_csv(analysis.table, csv_target)
+    if summary or csv_target is None:
+        out = sys.stderr if csv_target == "-" else sys.stdout
+        print(analysis.summary, file=out)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="mechsketch", description="Planar mechanism CAD. With no command: open the "
+                                "desktop app on a built-in example.")
+    sub = p.add_subparsers(dest="command")
+    a = sub.add_parser("analyze", help="solve over one driver revolution; CSV table and/or summary")
+    a.add_argument("scene")
+    a.add_argument("--element", metavar="ID")
+    a.add_argument("--samples", type=int, metavar="N")
+    a.add_argument("--csv", metavar="PATH|-")
+    a.add_argument("--summary", action="store_true")
+    v = sub.add_parser("validate", help="list the problems of a scene file; exit 0 when there are none")
+    v.add_argument("scene")
+    e = sub.add_parser("export", help="write the manufacturable outline of an element as DXF (mm)")
+    e.add_argument("scene")
+    e.add_argument("--element", metavar="ID")
+    e.add_argument("--dxf", metavar="PATH", required=True)
+    e.add_argument("--tolerance", type=float, default=0.001, metavar="MM")
+    s = sub.add_parser("synthesize", help="synthesise rolling profiles (rolling_lever)")
+    s.add_argument("scene")
+    s.add_argument("--element", metavar="ID")
+    s.add_argument("--csv", metavar="PATH|-")
+    s.add_argument("--summary", action="store_true")
+    c = sub.add_parser("centrodes", help="instant centres and centrodes of a linkage link")
+    c.add_argument("scene")
+    c.add_argument("--element", metavar="ID")
+    c.add_argument("--link", required=True)
+    c.add_argument("--relative-to", dest="relative_to", default=None, metavar="L")
+    c.add_argument("--samples", type=int, metavar="N")
+    c.add_argument("--csv", metavar="PATH|-", required=True)
+    o = sub.add_parser("open", help="open a scene file in the desktop app")
+    o.add_argument("scene", nargs="?")
+    return p
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run a parsed headless command; returns the exit status."""
+    if args.command == "validate":
+        problems = validate_file(args.scene)
+        for prob in problems:
+            print(prob)
+        if not problems:
+            print(f"{args.scene}: ok")
+        return 0 if not problems else 1
+    scene = load_scene(args.scene)
+    if args.command == "analyze":
+        if args.samples is not None and args.samples < 2:
+            raise CliError(f"--samples must be at least 2, got {args.samples}")
+        el = _pick(scene, args.element, "analyze")
+        _emit(_handler(el, "analyze")(el, args.samples), args.csv, args.summary)
+    elif args.command == "export":
+        el = _pick(scene, args.element, "export")
+        print(_handler(el, "export")(el, args.dxf, args.tolerance))
+    elif args.command == "synthesize":
+        el = _pick(scene, args.element, "synthesize")
+        _emit(_handler(el, "synthesize")(el), args.csv, args.summary)
+    elif args.command == "centrodes":
+        el = _pick(scene, args.element, "centrodes")
+        write_csv(_handler(el, "centrodes")(el, args.link, args.relative_to, args.samples), args.csv)
+    return 0
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the headless commands (``mechsketch.gui.launcher`` adds the app)."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if args.command in (None, "open"):
+        parser.error("the desktop app is started by the 'mechsketch' launcher, not by the headless CLI")
+    try:
+        return run(args)
+    except MechsketchError as exc:  # SceneFormatError, StructureError, GeometryError, ExportError...
+        print(f"error: {exc}", file=sys.stderr)
+        return 1
+    except BrokenPipeError:  # e.g. `mechsketch analyze ... --csv - | head`
+        return 0
+
+
+class Analysis:
+    """A computed table plus its human summary (what ``analyze`` and ``synthesize`` return)."""
+
+    def __init__(self, table, summary: str) -> None:
+        self.table = table
+        self.summary = summary

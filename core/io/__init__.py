@@ -1,0 +1,1 @@
+"""Files: scene JSON, CSV tables, DXF export."""

@@ -1,0 +1,54 @@
+"""Shared DXF plumbing: a new document in millimetres, layers, and an atomic save.
+
+Part-specific writers (Geneva wheel, rolling-lever profiles) build on these helpers.
+"""
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+
+import ezdxf
+from ezdxf import units
+
+from ..errors import ExportError
+
+DXF_VERSION = "R2010"
+
+
+def new_document(layers: dict[str, int] | None = None):
+    """A new R2010 DXF document whose drawing units are millimetres ($INSUNITS = 4).
+
+    ``layers`` maps layer name -> ACI colour; each is created.
+    """
+    doc = ezdxf.new(DXF_VERSION, setup=False, units=units.MM)
+    doc.header["$INSUNITS"] = units.MM
+    doc.header["$MEASUREMENT"] = 1  # metric
+    doc.header["$LUNITS"] = 2  # decimal
+    for name, colour in (layers or {}).items():
+        if name not in doc.layers:
+            doc.layers.add(name, color=colour)
+    return doc
+
+
+def save_document(doc, path: str | os.PathLike) -> None:
+    """Save atomically (temporary file, then rename); :class:`ExportError` names the path."""
+    target = Path(path)
+    folder = target.parent if str(target.parent) else Path(".")
+    if not folder.is_dir():
+        raise ExportError(f"cannot write {target}: folder {folder} does not exist")
+    tmp = None
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=folder)
+        os.close(fd)
+        doc.saveas(tmp)
+        os.replace(tmp, target)
+        tmp = None
+    except OSError as exc:
+        raise ExportError(f"cannot write {target}: {exc.strerror or exc}") from None
+    finally:
+        if tmp is not None:
+            try:
+                os.unlink(tmp)
+            except OSError:
+                pass

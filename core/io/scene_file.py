@@ -1,0 +1,220 @@
+"""Scene files: read (tagged, migrated, then validated — in that order), write atomically.
+
+Every problem found is reported with its JSON path and the id involved; nothing raises a
+traceback at the user. ``load_scene`` raises :class:`SceneFormatError` listing all problems.
+"""
+from __future__ import annotations
+
+import json
+import math
+import os
+import tempfile
+from pathlib import Path
+from typing import Any, Callable
+
+import jsonschema
+
+from ..errors import ExportError, Problem, SceneFormatError
+from ..model.scene import FORMAT, SCHEMA_VERSION, Scene, element_module
+
+#: files larger than this are refused before reading (bytes)
+MAX_FILE_BYTES = 10 * 1024 * 1024
+
+#: migrations: version v -> function turning a v document into a v+1 document
+MIGRATIONS: dict[int, Callable[[dict], dict]] = {}
+
+
+def _schema(name: str) -> dict:
+    from mechsketch import resources
+
+    return resources.schema(name)
+
+
+def _reject_constant(name: str) -> Any:
+    raise ValueError(f"{name} is not a number JSON allows")
+
+
+def _json_path(parts) -> str:
+    out = "$"
+    for p in parts:
+        out += f"[{p}]" if isinstance(p, int) else f".{p}"
+    return out
+
+
+def _nonfinite(obj: Any, path: str, out: list[Problem]) -> None:
+    if isinstance(obj, float) and not math.isfinite(obj):
+        out.append(Problem(path, f"number must be finite, got {obj}"))
+    elif isinstance(obj, dict):
+        for k, v in obj.items():
+            _nonfinite(v, f"{path}.{k}", out)
+    elif isinstance(obj, list):
+        for i, v in enumerate(obj):
+            _nonfinite(v, f"{path}[{i}]", out)
+
+
+def _schema_problems(schema: dict, data: Any, base: str, id: str | None) -> list[Problem]:
+    validator = jsonschema.Draft202012Validator(schema)
+    out = []
+    for err in sorted(validator.iter_errors(data), key=lambda e: list(map(str, e.absolute_path))):
+        where = base + _json_path(err.absolute_path)[1:]
+        msg = err.message
+        if err.validator == "additionalProperties":
+            msg = msg.replace("Additional properties are not allowed", "unknown key(s)")
+        out.append(Problem(where, msg, id))
+    return out
+
+
+def migrate(doc: dict) -> dict:
+    """Bring a tagged document up to :data:`SCHEMA_VERSION` (v1 is the first: nothing to do)."""
+    version = doc["schema_version"]
+    while version < SCHEMA_VERSION:
+        doc = MIGRATIONS[version](doc)
+        version = doc["schema_version"]
+    return doc
+
+
+def scene_from_dict(doc: Any, source: str = "scene") -> tuple[Scene | None, list[Problem]]:
+    """Tag check, migration, validation; returns the scene (None if any problem) and problems."""
+    if not isinstance(doc, dict):
+        return None, [Problem("$", f"a scene must be a JSON object, got {type(doc).__name__}")]
+    if doc.get("format") != FORMAT:
+        return None, [Problem("$.format", f"not a mechsketch scene (format is {doc.get('format')!r}, "
+                                          f"expected {FORMAT!r})")]
+    version = doc.get("schema_version")
+    if not isinstance(version, int) or isinstance(version, bool) or version < 1:
+        return None, [Problem("$.schema_version", f"must be a whole number >= 1, got {version!r}")]
+    if version > SCHEMA_VERSION:
+        return None, [Problem("$.schema_version", f"the file is from a newer mechsketch (schema_version "
+                                                  f"{version}; this version reads up to {SCHEMA_VERSION})")]
+    doc = migrate(doc)
+    problems: list[Problem] = []
+    _nonfinite(doc, "$", problems)
+    if problems:
+        return None, problems
+    problems = _schema_problems(_schema("scene.schema.json"), doc, "$", None)
+    if problems:
+        return None, problems
+    elements = []
+    seen: dict[str, int] = {}
+    for k, ed in enumerate(doc["elements"]):
+        path = f"$.elements[{k}]"
+        eid = ed["id"]
+        if eid in seen:
+            problems.append(Problem(f"{path}.id", f"duplicate element id {eid!r} (also elements[{seen[eid]}])", eid))
+            continue
+        seen[eid] = k
+        module = element_module(ed["type"])
+        if module is None:
+            problems.append(Problem(f"{path}.type", f"element type {ed['type']!r} is not supported by "
+                                                    "this version of mechsketch", eid))
+            continue
+        found = _schema_problems(_schema(module.SCHEMA), ed, path, eid)
+        if found:
+            problems.extend(found)
+            continue
+        element, found = module.parse(ed, path)
+        problems.extend(found)
+        if element is not None:
+            elements.append(element)
+    if problems:
+        return None, problems
+    return Scene(tuple(elements)), []
+
+
+def read_scene_text(path: str | os.PathLike) -> tuple[Any, list[Problem]]:
+    """Read and parse a scene file's JSON (size-limited); returns (document, problems)."""
+    p = Path(path)
+    try:
+        size = p.stat().st_size
+    except FileNotFoundError:
+        return None, [Problem("$", f"no such file: {p}")]
+    except OSError as exc:
+        return None, [Problem("$", f"cannot read {p}: {exc.strerror or exc}")]
+    if p.is_dir():
+        return None, [Problem("$", f"{p} is a folder, not a scene file")]
+    if size > MAX_FILE_BYTES:
+        return None, [Problem("$", f"file is {size / 1e6:.1f} MB; scene files are limited to "
+                                   f"{MAX_FILE_BYTES / 1e6:.0f} MB")]
+    try:
+        raw = p.read_bytes()
+    except OSError as exc:
+        return None, [Problem("$", f"cannot read {p}: {exc.strerror or exc}")]
+    try:
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        return None, [Problem("$", f"not UTF-8 text (byte {exc.start}): not a JSON scene file")]
+    try:
+        return json.loads(text, parse_constant=_reject_constant), []
+    except RecursionError:
+        return None, [Problem("$", "JSON nested too deeply")]
+    except ValueError as exc:  # json.JSONDecodeError is a ValueError, as is _reject_constant's
+        line = getattr(exc, "lineno", None)
+        where = f" (line {line}, column {exc.colno})" if line else ""
+        msg = exc.msg if hasattr(exc, "msg") else str(exc)
+        return None, [Problem("$", f"not valid JSON{where}: {msg}")]
+
+
+def validate_file(path: str | os.PathLike) -> list[Problem]:
+    """Every problem of a scene file (empty list: the file is good)."""
+    doc, problems = read_scene_text(path)
+    if problems:
+        return problems
+    return scene_from_dict(doc, str(path))[1]
+
+
+def load_scene(path: str | os.PathLike) -> Scene:
+    """Load a scene file; raises :class:`SceneFormatError` naming every problem."""
+    doc, problems = read_scene_text(path)
+    if not problems:
+        scene, problems = scene_from_dict(doc, str(path))
+        if scene is not None:
+            return scene
+    raise SceneFormatError(problems, str(path))
+
+
+def loads_scene(text: str, source: str = "scene") -> Scene:
+    """Parse scene JSON text (see :func:`load_scene`)."""
+    try:
+        doc = json.loads(text, parse_constant=_reject_constant)
+    except ValueError as exc:
+        raise SceneFormatError([Problem("$", f"not valid JSON: {exc}")], source) from None
+    scene, problems = scene_from_dict(doc, source)
+    if scene is None:
+        raise SceneFormatError(problems, source)
+    return scene
+
+
+def dumps_scene(scene: Scene) -> str:
+    """The scene as JSON text (authored data only; nothing derived)."""
+    return json.dumps(scene.to_dict(), indent=2, allow_nan=False) + "\n"
+
+
+def atomic_write_text(path: str | os.PathLike, text: str) -> None:
+    """Write ``text`` to ``path`` atomically: a temporary file in the same folder, then rename.
+
+    Raises :class:`ExportError` naming the path if it cannot be written; the old file is intact.
+    """
+    target = Path(path)
+    folder = target.parent if str(target.parent) else Path(".")
+    tmp_name = None
+    try:
+        fd, tmp_name = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=folder)
+        with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as fh:
+            fh.write(text)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp_name, target)
+        tmp_name = None
+    except OSError as exc:
+        raise ExportError(f"cannot write {target}: {exc.strerror or exc}") from None
+    finally:
+        if tmp_name is not None:
+            try:
+                os.unlink(tmp_name)
+            except OSError:
+                pass
+
+
+def save_scene(scene: Scene, path: str | os.PathLike) -> None:
+    """Save atomically (temporary file, then rename); raises :class:`ExportError` on failure."""
+    atomic_write_text(path, dumps_scene(scene))

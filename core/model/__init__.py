@@ -1,0 +1,1 @@
+"""The authored document: immutable records and reversible edits."""

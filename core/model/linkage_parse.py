@@ -1,0 +1,127 @@
+"""Checks a linkage element dict for meaning and builds a :class:`Linkage`.
+
+Structure (types, required keys) is checked first against ``linkage.schema.json`` by the scene
+reader; this module checks what a schema cannot: ids, membership, coincident joints, the driver.
+"""
+from __future__ import annotations
+
+import math
+from collections import Counter
+from typing import Any
+
+from ..errors import Problem
+from .linkage import Driver, Joint, JointKind, Link, Linkage
+
+SCHEMA = "linkage.schema.json"
+#: two revolute joints of one link closer than this (mm, relative to the scene size) coincide
+COINCIDENT_REL = 1e-9
+
+
+def parse(data: dict[str, Any], path: str) -> tuple[Linkage | None, list[Problem]]:
+    """Validate a structurally valid linkage dict; return the linkage (or None) and problems."""
+    problems: list[Problem] = []
+    eid = data["id"]
+
+    def bad(where: str, msg: str, id: str | None = None) -> None:
+        problems.append(Problem(f"{path}.{where}", msg, id))
+
+    joints: list[Joint] = []
+    for k, jd in enumerate(data["joints"]):
+        x, y = (float(v) for v in jd["at"])
+        if not (math.isfinite(x) and math.isfinite(y)):
+            bad(f"joints[{k}].at", f"position must be finite numbers, got {jd['at']}", jd["id"])
+            continue
+        kind = JointKind(jd["kind"])
+        axis = jd.get("axis_deg")
+        if kind is JointKind.P:
+            if axis is None:
+                bad(f"joints[{k}]", "a P joint needs 'axis_deg' (the slide direction, degrees)", jd["id"])
+                axis = 0.0
+            elif not math.isfinite(float(axis)):
+                bad(f"joints[{k}].axis_deg", f"must be a finite number, got {axis}", jd["id"])
+                axis = 0.0
+            axis = float(axis)
+        elif axis is not None:
+            bad(f"joints[{k}].axis_deg", "only a P joint has an axis", jd["id"])
+            axis = None
+        joints.append(Joint(jd["id"], kind, (x, y), axis))
+
+    for what, items, key in (("joint", data["joints"], "joints"), ("link", data["links"], "links")):
+        counts = Counter(it["id"] for it in items)
+        for k, it in enumerate(items):
+            if counts[it["id"]] > 1:
+                bad(f"{key}[{k}].id", f"duplicate {what} id {it['id']!r}", it["id"])
+                counts[it["id"]] = 0  # report once
+    joint_by_id = {j.id: j for j in joints}
+    known_joints = {jd["id"] for jd in data["joints"]}
+
+    links: list[Link] = []
+    for k, ld in enumerate(data["links"]):
+        ids = tuple(ld["joints"])
+        for m, jid in enumerate(ids):
+            if jid not in known_joints:
+                bad(f"links[{k}].joints[{m}]", f"link {ld['id']!r} names unknown joint {jid!r}", ld["id"])
+        dup = [j for j, c in Counter(ids).items() if c > 1]
+        if dup:
+            bad(f"links[{k}].joints", f"link {ld['id']!r} lists joint(s) {', '.join(dup)} twice", ld["id"])
+        links.append(Link(ld["id"], ids))
+
+    member: dict[str, list[str]] = {j: [] for j in known_joints}
+    for lk in links:
+        for jid in set(lk.joints):
+            if jid in member:
+                member[jid].append(lk.id)
+    for k, jd in enumerate(data["joints"]):
+        jid = jd["id"]
+        if not member.get(jid):
+            bad(f"joints[{k}]", f"joint {jid!r} is on no link", jid)
+        elif jd["kind"] == "P" and len(member[jid]) != 2:
+            bad(f"joints[{k}]", f"P joint {jid!r} must join exactly two links, it is on "
+                f"{len(member[jid])} ({', '.join(member[jid])})", jid)
+
+    scale = max((abs(c) for j in joints for c in j.at), default=1.0) or 1.0
+    for k, lk in enumerate(links):
+        revs = [joint_by_id[j] for j in lk.joints if j in joint_by_id and joint_by_id[j].kind is JointKind.R]
+        for a in range(len(revs)):
+            for b in range(a + 1, len(revs)):
+                p, q = revs[a].at, revs[b].at
+                if math.hypot(p[0] - q[0], p[1] - q[1]) <= COINCIDENT_REL * max(scale, 1.0):
+                    bad(f"links[{k}]", f"revolute joints {revs[a].id!r} and {revs[b].id!r} of link "
+                        f"{lk.id!r} are at the same point {list(p)}", lk.id)
+
+    link_ids = {lk.id for lk in links}
+    ground = data["ground"]
+    if ground not in link_ids:
+        bad("ground", f"ground names unknown link {ground!r}", ground)
+    dd = data["driver"]
+    speed = float(dd.get("speed_rpm", 60.0))
+    if not math.isfinite(speed):
+        bad("driver.speed_rpm", f"must be a finite number, got {speed}", dd["link"])
+        speed = 60.0
+    elif speed == 0.0:
+        bad("driver.speed_rpm", "must not be zero (the sign gives the direction)", dd["link"])
+    if dd["link"] not in link_ids:
+        bad("driver.link", f"driver names unknown link {dd['link']!r}", dd["link"])
+    elif dd["link"] == ground:
+        bad("driver.link", "the driver cannot be the ground link", dd["link"])
+    else:
+        dl = next(lk for lk in links if lk.id == dd["link"])
+        if len(dl.joints) != 2:
+            bad("driver.link", f"driver {dl.id!r} must be a binary link (two joints), it has "
+                f"{len(dl.joints)}", dl.id)
+        if dd["pivot"] not in known_joints:
+            bad("driver.pivot", f"driver pivot names unknown joint {dd['pivot']!r}", dd["pivot"])
+        elif dd["pivot"] not in dl.joints:
+            bad("driver.pivot", f"pivot {dd['pivot']!r} is not a joint of driver {dl.id!r}", dd["pivot"])
+        else:
+            pj = joint_by_id.get(dd["pivot"])
+            if pj is not None and pj.kind is not JointKind.R:
+                bad("driver.pivot", f"pivot {pj.id!r} must be a revolute joint", pj.id)
+            if ground in link_ids and dd["pivot"] not in next(lk for lk in links if lk.id == ground).joints:
+                bad("driver.pivot", f"pivot {dd['pivot']!r} is not on the ground link {ground!r}", dd["pivot"])
+
+    if problems:
+        return None, problems
+    linkage = Linkage(eid, tuple(joints), tuple(links), ground,
+                      Driver(dd["link"], dd["pivot"], speed), int(data.get("samples", 360)))
+    return linkage, problems

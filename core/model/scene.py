@@ -1,0 +1,79 @@
+"""A scene: the user's document, an ordered tuple of elements with unique ids.
+
+Element types (``linkage``, ``geneva``, ``rolling_lever``) are immutable records with an ``id``,
+a ``type`` and ``to_dict()``. Each type's parser is found through :data:`ELEMENT_MODULES`.
+"""
+from __future__ import annotations
+
+import importlib
+from dataclasses import dataclass, replace
+from types import ModuleType
+from typing import Any, Protocol
+
+FORMAT = "mechsketch.scene"
+SCHEMA_VERSION = 1
+
+#: element type -> module with ``parse(data: dict, path: str) -> (element | None, [Problem])``
+#: and ``SCHEMA = "<file in mechsketch.resources.schema>"``.
+ELEMENT_MODULES: dict[str, str] = {
+    "linkage": "mechsketch.core.model.linkage_parse",
+    "geneva": "mechsketch.core.model.geneva",
+    "rolling_lever": "mechsketch.core.model.rolling_lever",
+}
+
+
+class Element(Protocol):
+    id: str
+    type: str
+
+    def to_dict(self) -> dict[str, Any]: ...
+
+
+def element_module(type_name: str) -> ModuleType | None:
+    """The parser module of an element type, or None if this version does not know it."""
+    name = ELEMENT_MODULES.get(type_name)
+    if name is None:
+        return None
+    try:
+        return importlib.import_module(name)
+    except ModuleNotFoundError as exc:  # a type planned but not shipped in this build
+        if exc.name == name:
+            return None
+        raise
+
+
+@dataclass(frozen=True)
+class Scene:
+    """The authored document: elements in file order, units millimetres."""
+
+    elements: tuple[Any, ...] = ()
+
+    def element(self, element_id: str) -> Any:
+        for e in self.elements:
+            if e.id == element_id:
+                return e
+        known = ", ".join(repr(e.id) for e in self.elements) or "none"
+        raise KeyError(f"scene has no element {element_id!r} (elements: {known})")
+
+    @property
+    def ids(self) -> tuple[str, ...]:
+        return tuple(e.id for e in self.elements)
+
+    def with_element(self, element: Any, index: int | None = None) -> "Scene":
+        """Replace the element with the same id, or insert it (at ``index``, default last)."""
+        if element.id in self.ids:
+            return replace(self, elements=tuple(element if e.id == element.id else e for e in self.elements))
+        els = list(self.elements)
+        els.insert(len(els) if index is None else index, element)
+        return replace(self, elements=tuple(els))
+
+    def without_element(self, element_id: str) -> "Scene":
+        self.element(element_id)
+        return replace(self, elements=tuple(e for e in self.elements if e.id != element_id))
+
+    def index_of(self, element_id: str) -> int:
+        return self.ids.index(element_id)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"format": FORMAT, "schema_version": SCHEMA_VERSION, "units": "mm",
+                "elements": [e.to_dict() for e in self.elements]}

@@ -1,0 +1,1 @@
+"""Structural analysis (Assur groups) and the vectorised closed-form kinematic solver."""

@@ -1,0 +1,1 @@
+"""mechsketch desktop app (PySide6 + pyqtgraph). Importing this package does not import Qt."""

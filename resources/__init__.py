@@ -1,0 +1,34 @@
+"""Packaged resources: example scenes, JSON schemas, icons."""
+from __future__ import annotations
+
+import json
+from importlib import resources
+from pathlib import Path
+
+
+def _root():
+    return resources.files(__name__)
+
+
+def example_paths() -> list[Path]:
+    """Every built-in example scene, sorted by file name."""
+    folder = _root() / "examples"
+    return sorted((Path(str(p)) for p in folder.iterdir() if p.name.endswith(".json")), key=lambda p: p.name)
+
+
+def example_path(name: str) -> Path:
+    """The example scene ``name`` (with or without ``.json``)."""
+    stem = name[:-5] if name.endswith(".json") else name
+    path = Path(str(_root() / "examples" / f"{stem}.json"))
+    if not path.is_file():
+        known = ", ".join(p.stem for p in example_paths())
+        raise FileNotFoundError(f"no example scene {name!r}; examples: {known}")
+    return path
+
+
+def schema(name: str) -> dict:
+    """A JSON schema shipped in ``schema/`` (e.g. ``"linkage.schema.json"``)."""
+    return json.loads((_root() / "schema" / name).read_text(encoding="utf-8"))
+
+
+DEFAULT_EXAMPLE = "fourbar_crank_rocker"
