@@ -1,0 +1,160 @@
+"""Diagnostics of a swept linkage: reachable input ranges, dead points, transmission angles.
+
+Boundaries between assemblable and non-assemblable samples are refined by bisection on the
+driver angle (to ~1e-12 rad); near-toggle minima of a group's conditioning inside the reachable
+range are refined by golden-section search. Angles are radians unless a name says ``_deg``.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .plan import TOGGLE_COND, Plan, Solution
+
+BISECT_STEPS = 48
+GOLDEN_STEPS = 60
+
+
+@dataclass(frozen=True)
+class DeadPoint:
+    """A toggle: the driver angle (rad, in the sweep's unwrapped input), the group, and whether
+    the group stops being assemblable there (``"limit"``) or passes close to it (``"toggle"``)."""
+
+    input: float
+    group: str
+    kind: str
+    conditioning: float
+
+    def __str__(self) -> str:
+        what = "assembly limit" if self.kind == "limit" else f"near toggle (conditioning {self.conditioning:.1e})"
+        return f"{math.degrees(self.input):.6f}° {self.group}: {what}"
+
+
+@dataclass
+class Diagnostics:
+    """What the summary and the GUI's diagnostics panel show."""
+
+    mobility: int
+    groups: list[tuple[str, str, float | None]]      # (name, kind, mode)
+    samples: int
+    valid_fraction: float
+    reachable: list[tuple[float, float]]              # input ranges (rad), sweep direction
+    dead_points: list[DeadPoint]
+    transmission_deg: dict[str, tuple[float, float]]  # RRR group -> (min, max) μ in degrees
+    solve_time: float                                 # s
+    residual: float                                   # mm
+    full_turn: bool = field(default=False)
+
+    def lines(self) -> list[str]:
+        out = [f"mobility: {self.mobility}"]
+        for name, kind, mode in self.groups:
+            out.append(f"group {name}: kind {kind}" + (f", mode {mode:+.0f}" if mode is not None else ""))
+        if self.full_turn:
+            out.append("reachable: full revolution of the driver")
+        elif not self.reachable:
+            out.append("reachable: none (the linkage cannot be assembled at any sampled input)")
+        for a, b in self.reachable if not self.full_turn else []:
+            out.append(f"reachable: input {math.degrees(a):.6f}° to {math.degrees(b):.6f}°")
+        for d in self.dead_points:
+            out.append(f"dead point: {d}")
+        if not self.dead_points:
+            out.append("dead points: none")
+        for g, (lo, hi) in self.transmission_deg.items():
+            out.append(f"transmission angle {g}: {lo:.3f}° to {hi:.3f}°")
+        per = self.solve_time / max(self.samples, 1) * 1e6
+        out.append(f"solve: {self.samples} poses in {self.solve_time * 1e3:.3f} ms ({per:.3f} µs per pose), "
+                   f"max loop-closure residual {self.residual:.1e} mm, {self.valid_fraction:.1%} assemblable")
+        return out
+
+    def __str__(self) -> str:
+        return "\n".join(self.lines())
+
+
+def _bisect_valid(plan: Plan, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """For each pair (a valid, b invalid), the input where validity ends (vectorised bisection)."""
+    a, b = a.astype(float).copy(), b.astype(float).copy()
+    for _ in range(BISECT_STEPS):
+        m = 0.5 * (a + b)
+        ok = plan.evaluate(m, order=0).valid
+        a = np.where(ok, m, a)
+        b = np.where(ok, b, m)
+    return a
+
+
+def _golden_min(plan: Plan, group: str, a: float, b: float) -> tuple[float, float]:
+    g = (math.sqrt(5.0) - 1.0) / 2.0
+
+    def f(x: float) -> float:
+        sol = plan.evaluate(np.array([x]), order=0)
+        c = sol.conditioning(group)[0]
+        return float(c) if np.isfinite(c) else 0.0
+
+    c, d = b - g * (b - a), a + g * (b - a)
+    fc, fd = f(c), f(d)
+    for _ in range(GOLDEN_STEPS):
+        if fc < fd:
+            b, d, fd = d, c, fc
+            c = b - g * (b - a)
+            fc = f(c)
+        else:
+            a, c, fc = c, d, fd
+            d = a + g * (b - a)
+            fd = f(d)
+    x = 0.5 * (a + b)
+    return x, f(x)
+
+
+def diagnose(sol: Solution) -> Diagnostics:
+    """Diagnostics of a full-revolution sweep (``plan.sweep``)."""
+    plan = sol.plan
+    n = len(sol)
+    valid = sol.valid
+    step = sol.input[1] - sol.input[0] if n > 1 else 2 * math.pi
+    groups = []
+    for g in sol.groups:
+        mode = sol.group_output(g.name).extra.get("mode")
+        groups.append((g.name, g.kind, mode))
+    dead: list[DeadPoint] = []
+    reachable: list[tuple[float, float]] = []
+    full = bool(valid.all())
+    if not full and valid.any():
+        nxt = np.roll(valid, -1)
+        ends = np.flatnonzero(valid & ~nxt)        # last valid sample before a gap
+        starts = np.flatnonzero(valid & ~np.roll(valid, 1))  # first valid sample after a gap
+        th = sol.input
+        end_at = _bisect_valid(plan, th[ends], th[ends] + step)
+        start_at = _bisect_valid(plan, th[starts], th[starts] - step)
+        for s in sorted(start_at):
+            e = min((x for x in end_at if (x - s) * np.sign(step) >= 0), key=lambda x: abs(x - s),
+                    default=end_at[0] + 2 * math.pi * np.sign(step))
+            sg = float(np.sign(step))
+            if (s - sol.input[0]) * sg > 0 and (e - sol.input[0]) * sg > 2 * math.pi - abs(step):
+                s, e = s - 2 * math.pi * sg, e - 2 * math.pi * sg  # the range through the drawn pose
+            reachable.append((float(s), float(e)))
+        probe = plan.evaluate(np.concatenate([end_at + 1e-9 * np.sign(step), start_at - 1e-9 * np.sign(step)]),
+                              order=0)
+        for k, x in enumerate(np.concatenate([end_at, start_at])):
+            for g in probe.groups:
+                if not probe.feasible(g.name)[k]:
+                    dead.append(DeadPoint(float(x), g.name, "limit", 0.0))
+                    break
+    # near-toggles inside the reachable range: local minima of conditioning below the threshold
+    for g in sol.groups:
+        c = np.where(valid, sol.conditioning(g.name), np.inf)
+        if c.ndim == 0:
+            continue
+        prev, nxt = np.roll(c, 1), np.roll(c, -1)
+        cand = np.flatnonzero((c < TOGGLE_COND) & (c <= prev) & (c <= nxt) & np.isfinite(prev) & np.isfinite(nxt))
+        for k in cand:
+            x, cmin = _golden_min(plan, g.name, sol.input[k] - step, sol.input[k] + step)
+            dead.append(DeadPoint(float(x), g.name, "toggle", cmin))
+    dead.sort(key=lambda d: (d.input - sol.input[0]) * np.sign(step))
+    trans = {}
+    for g in sol.groups:
+        if g.kind == "RRR" and valid.any():
+            mu = np.degrees(sol.transmission_angle(g.name))
+            trans[g.name] = (float(np.nanmin(mu)), float(np.nanmax(mu)))
+    return Diagnostics(plan.mobility, groups, n, float(valid.mean()), reachable, dead, trans,
+                       sol.elapsed, sol.residual(), full)

@@ -1,0 +1,299 @@
+"""Closed-form kinematics of the driver and of the five class-II dyads, on whole sample arrays.
+
+Points and vectors are complex numbers (x + iy, mm) in arrays of shape (N,); multiplying by ``1j``
+is the 90° rotation J. A link's motion is a :class:`LinkState`: the position of an anchor point
+(its drawn position ``a0``), the rotation ``rot = exp(i·ρ)`` from the drawn pose, and the
+derivatives. Any point drawn at ``p0`` on the link is then ``A + rot·(p0 − a0)``.
+
+Positions are closed form; velocities and accelerations solve the 2×2 linear system obtained by
+differentiating the loop equation once and twice. Pasika's eqs. (2)–(3) (RRR) and (6)–(7) (RRP,
+with corrections A1–A6 of the notes) are exactly Cramer's rule on these systems; RPR, PRP and RPP
+are derived the same way. Infeasible samples (no assembly) come out as NaN, never as exceptions.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+Arr = np.ndarray  # complex (N,) for points/vectors, float (N,) for scalars
+
+
+@dataclass
+class LinkState:
+    """Motion of one rigid link over N samples.
+
+    Attributes: ``a0`` drawn anchor (complex, mm); ``A``, ``vA``, ``aA`` anchor position (mm),
+    velocity (mm/s), acceleration (mm/s²), complex (N,) or scalars; ``rot`` exp(iρ) (N,);
+    ``omega`` (rad/s), ``alpha`` (rad/s²) float (N,) or scalars. Derivatives are None below the
+    requested order.
+    """
+
+    a0: complex
+    A: Arr
+    rot: Arr
+    vA: Arr | None = None
+    omega: Arr | float | None = None
+    aA: Arr | None = None
+    alpha: Arr | float | None = None
+
+    def point(self, p0: complex) -> Arr:
+        return self.A + self.rot * (p0 - self.a0)
+
+    def velocity(self, p0: complex, at: Arr | None = None) -> Arr:
+        """Velocity of the link point drawn at ``p0`` (``at``: its current position, if known)."""
+        r = (self.point(p0) if at is None else at) - self.A
+        return self.vA + 1j * self.omega * r
+
+    def acceleration(self, p0: complex, at: Arr | None = None) -> Arr:
+        r = (self.point(p0) if at is None else at) - self.A
+        return self.aA + (1j * self.alpha - self.omega * self.omega) * r
+
+
+def ground_state() -> LinkState:
+    """The frame: identity motion (scalars broadcast against sample arrays)."""
+    return LinkState(0j, 0j, 1.0 + 0j, 0j, 0.0, 0j, 0.0)
+
+
+def cross(a: Arr, b: Arr) -> Arr:
+    """z-component of a × b for complex-encoded vectors."""
+    return (a.conjugate() * b).imag
+
+
+def dot(a: Arr, b: Arr) -> Arr:
+    return (a.conjugate() * b).real
+
+
+def solve2(c1: Arr, c2: Arr, w: Arr) -> tuple[Arr, Arr, Arr]:
+    """Solve x1·c1 + x2·c2 = w for real x1, x2 (complex columns); returns x1, x2, det."""
+    det = cross(c1, c2)
+    return cross(w, c2) / det, cross(c1, w) / det, det
+
+
+@dataclass
+class DyadOut:
+    """What a dyad kernel returns: the two link states, the feasibility mask and conditioning.
+
+    ``cond`` is |det| / (|c1||c2|) of the velocity system, in [0, 1]: the sine of the angle
+    between its columns (|sin μ| for RRR). ``gap`` is the signed assembly margin (mm or mm²,
+    negative where the group cannot be assembled) used to locate limits precisely.
+    """
+
+    state_i: LinkState
+    state_j: LinkState
+    ok: Arr
+    cond: Arr
+    gap: Arr
+    extra: dict
+
+
+def _sqrt_ok(x: Arr) -> tuple[Arr, Arr]:
+    ok = x >= 0.0
+    return np.sqrt(np.where(ok, x, np.nan)), ok
+
+
+def crank(pivot: complex, a0_angle: float, inputs: Arr, omega: float | Arr, alpha: float | Arr,
+          order: int) -> LinkState:
+    """The driver: rotation about a ground pivot by ``inputs − a0_angle`` (rad)."""
+    rot = np.exp(1j * (inputs - a0_angle))
+    st = LinkState(pivot, np.full(inputs.shape, pivot, dtype=complex), rot)
+    if order >= 1:
+        st.vA, st.omega = 0j, omega
+    if order >= 2:
+        st.aA, st.alpha = 0j, alpha
+    return st
+
+
+def _slider(g: LinkState, s0: complex, u0: complex, s: Arr, sd: Arr | None, sdd: Arr | None,
+            order: int) -> LinkState:
+    """State of a link translating along a guide of link ``g`` (axis through drawn s0, dir u0)."""
+    z = g.point(s0)
+    u = g.rot * u0
+    st = LinkState(s0, z + s * u, g.rot)
+    if order >= 1:
+        iw = 1j * g.omega
+        st.vA = g.velocity(s0, z) + (sd + iw * s) * u
+        st.omega = g.omega
+    if order >= 2:
+        st.aA = g.acceleration(s0, z) + (sdd + 2.0 * iw * sd + (1j * g.alpha - g.omega * g.omega) * s) * u
+        st.alpha = g.alpha
+    return st
+
+
+def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: complex,
+        order: int) -> DyadOut:
+    """RRR dyad: link i = M–L, link j = H–L; M, H outer joints on known links, L the inner joint.
+
+    Lengths and the assembly mode (sign of cross(H−M, L−M), +1: L left of M→H) come from the
+    drawn positions m0, h0, l0.
+    """
+    li, lj = abs(l0 - m0), abs(l0 - h0)
+    mode = 1.0 if cross(np.asarray(h0 - m0), np.asarray(l0 - m0)) >= 0.0 else -1.0
+    M, H = m_state.point(m0), h_state.point(h0)
+    d = H - M
+    D = np.abs(d)
+    # Heron in factored form: accurate near toggles (paper eq. 1 via atan2/Heron, notes §A)
+    f1, f2, f3 = li + lj - D, D - li + lj, D + li - lj
+    prod = (D + li + lj) * f1 * f2 * f3
+    gap = np.minimum(np.minimum(f1, f2), f3)
+    root, ok = _sqrt_ok(prod)
+    x = ((li - lj) * (li + lj) + D * D) / (2.0 * D)
+    h = mode * root / (2.0 * D)
+    L = M + (x + 1j * h) * (d / D)
+    ri, rj = L - M, L - H
+    si = LinkState(m0, M, ri / (l0 - m0))
+    sj = LinkState(h0, H, rj / (l0 - h0))
+    # velocity system (eq. 2): i·ω_i·r_i − i·ω_j·r_j = v_H − v_M
+    c1, c2 = 1j * ri, -1j * rj
+    det = cross(c1, c2)
+    cond = np.abs(det) / (li * lj)
+    if order >= 1:
+        vM, vH = m_state.velocity(m0, M), h_state.velocity(h0, H)
+        wi, wj, _ = solve2(c1, c2, vH - vM)
+        si.vA, si.omega, sj.vA, sj.omega = vM, wi, vH, wj
+    if order >= 2:
+        aM, aH = m_state.acceleration(m0, M), h_state.acceleration(h0, H)
+        ai, aj, _ = solve2(c1, c2, aH - aM + wi * wi * ri - wj * wj * rj)  # eq. 3
+        si.aA, si.alpha, sj.aA, sj.alpha = aM, ai, aH, aj
+    return DyadOut(si, sj, ok, cond, gap, {"mode": mode, "L": L, "li": li, "lj": lj})
+
+
+def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex, l0: complex,
+        order: int) -> DyadOut:
+    """RRP dyad: link i = M–L (rod), link j = slider carrying L, sliding on a guide of known link g.
+
+    The guide is the axis through drawn ``s0`` with unit direction ``u0`` (moves with g). Mode:
+    sign of the rod's projection on the guide in the drawn pose (the paper's choice of x_q).
+    """
+    li = abs(l0 - m0)
+    mode = 1.0 if dot(np.asarray(u0), np.asarray(l0 - m0)) >= 0.0 else -1.0
+    M = m_state.point(m0)
+    z = g.point(s0)
+    u = g.rot * u0
+    b = g.rot * (l0 - s0)  # slider pin relative to the slide point (l_j, φ_jq of the paper)
+    dvec = z + b - M
+    du = dot(u, dvec)
+    dn = cross(u, dvec)  # signed eccentricity e_s + l_j sin φ_jq − M·n  (A1–A3 corrected)
+    root, ok = _sqrt_ok((li - dn) * (li + dn))
+    gap = li - np.abs(dn)
+    s = -du + mode * root
+    ri = dvec + s * u
+    si = LinkState(m0, M, ri / (l0 - m0))
+    c1, c2 = u, -1j * ri
+    cond = np.abs(cross(c1, c2)) / li
+    if order >= 1:
+        vM = m_state.velocity(m0, M)
+        L = M + ri
+        vLg = g.velocity(s0, z) + 1j * g.omega * (L - z)
+        sd, wi, _ = solve2(c1, c2, vM - vLg)  # eq. 6 with correction A4
+        si.vA, si.omega = vM, wi
+    else:
+        sd = None
+    if order >= 2:
+        aM = m_state.acceleration(m0, M)
+        aLg = g.acceleration(s0, z) + (1j * g.alpha - g.omega * g.omega) * (L - z)
+        sdd, ai, _ = solve2(c1, c2, aM - wi * wi * ri - aLg - 2j * g.omega * sd * u)  # eq. 7
+        si.aA, si.alpha = aM, ai
+    else:
+        sdd = None
+    sj = _slider(g, s0, u0, s, sd, sdd, order)
+    return DyadOut(si, sj, ok, cond, gap, {"mode": mode, "s": s, "sd": sd, "sdd": sdd})
+
+
+def rpr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, s0: complex, u0: complex,
+        order: int) -> DyadOut:
+    """RPR dyad: link i (pin M) slides on link j (pin H) along the axis through s0, direction u0.
+
+    Both links turn together. Mode: sign of the along-axis distance from H to M, drawn pose.
+    """
+    c = cross(np.asarray(u0), np.asarray(m0 - h0)).item()  # constant offset of M from H ⟂ axis
+    a_d = dot(np.asarray(u0), np.asarray(m0 - h0)).item()
+    mode = 1.0 if a_d >= 0.0 else -1.0
+    M, H = m_state.point(m0), h_state.point(h0)
+    d = M - H
+    D = np.abs(d)
+    root, ok = _sqrt_ok((D - c) * (D + c))
+    gap = D - abs(c)
+    sigma = mode * root
+    u = d / (sigma + 1j * c)
+    rot = u / u0
+    s = sigma - a_d  # slide of link i relative to link j, 0 in the drawn pose
+    si, sj = LinkState(m0, M, rot), LinkState(h0, H, rot)
+    c1, c2 = u, 1j * d
+    cond = np.abs(sigma) / D
+    if order >= 1:
+        vM, vH = m_state.velocity(m0, M), h_state.velocity(h0, H)
+        sd, w, _ = solve2(c1, c2, vM - vH)
+        si.vA, sj.vA, si.omega, sj.omega = vM, vH, w, w
+    else:
+        sd = None
+    if order >= 2:
+        aM, aH = m_state.acceleration(m0, M), h_state.acceleration(h0, H)
+        sdd, al, _ = solve2(c1, c2, aM - aH - 2j * w * sd * u + w * w * d)
+        si.aA, sj.aA, si.alpha, sj.alpha = aM, aH, al, al
+    else:
+        sdd = None
+    return DyadOut(si, sj, ok, cond, gap, {"mode": mode, "s": s, "sd": sd, "sdd": sdd})
+
+
+def prp(g1: LinkState, s1: complex, u1_0: complex, g2: LinkState, s2: complex, u2_0: complex,
+        l0: complex, order: int) -> DyadOut:
+    """PRP dyad: link i slides on a guide of g1, link j on a guide of g2, pinned together at L.
+
+    No assembly mode (two lines meet once); singular when the guides are parallel.
+    """
+    z1, z2 = g1.point(s1), g2.point(s2)
+    u1, u2 = g1.rot * u1_0, g2.rot * u2_0
+    b1, b2 = g1.rot * (l0 - s1), g2.rot * (l0 - s2)
+    c1, c2 = u1, -u2
+    p1, p2, det = solve2(c1, c2, z2 + b2 - z1 - b1)
+    cond = np.abs(det)
+    ok = np.isfinite(p1) & (cond > 1e-15)
+    gap = cond
+    L = z1 + b1 + p1 * u1
+    if order >= 1:
+        v1 = g1.velocity(s1, z1) + 1j * g1.omega * (L - z1)
+        v2 = g2.velocity(s2, z2) + 1j * g2.omega * (L - z2)
+        q1, q2, _ = solve2(c1, c2, v2 - v1)
+    else:
+        q1 = q2 = None
+    if order >= 2:
+        a1 = g1.acceleration(s1, z1) + (1j * g1.alpha - g1.omega * g1.omega) * (L - z1)
+        a2 = g2.acceleration(s2, z2) + (1j * g2.alpha - g2.omega * g2.omega) * (L - z2)
+        r1, r2, _ = solve2(c1, c2, a2 + 2j * g2.omega * q2 * u2 - a1 - 2j * g1.omega * q1 * u1)
+    else:
+        r1 = r2 = None
+    si = _slider(g1, s1, u1_0, p1, q1, r1, order)
+    sj = _slider(g2, s2, u2_0, p2, q2, r2, order)
+    return DyadOut(si, sj, ok, cond, gap, {"s_i": p1, "s_j": p2})
+
+
+def rpp(m_state: LinkState, m0: complex, si0: complex, ui0: complex, g: LinkState, s2: complex,
+        u2_0: complex, order: int) -> DyadOut:
+    """RPP dyad: link i pinned at M slides (axis si0, ui0) on link j, which slides on a guide of g.
+
+    Both links keep the guide's rotation. No assembly mode; singular when the two axes are parallel.
+    """
+    M = m_state.point(m0)
+    z2 = g.point(s2)
+    u1, u2 = g.rot * ui0, g.rot * u2_0
+    d = M - z2 + g.rot * (s2 - m0)
+    p1, p2, det = solve2(u1, u2, d)
+    cond = np.abs(det)
+    ok = np.isfinite(p2) & (cond > 1e-15)
+    st_i = LinkState(m0, M, g.rot)
+    if order >= 1:
+        vM = m_state.velocity(m0, M)
+        q1, q2, _ = solve2(u1, u2, vM - g.velocity(s2, z2) - 1j * g.omega * (M - z2))
+        st_i.vA, st_i.omega = vM, g.omega
+    else:
+        q2 = None
+    if order >= 2:
+        aM = m_state.acceleration(m0, M)
+        ag = g.acceleration(s2, z2) + (1j * g.alpha - g.omega * g.omega) * (M - z2)
+        r1, r2, _ = solve2(u1, u2, aM - ag - 2j * g.omega * (q1 * u1 + q2 * u2))
+        st_i.aA, st_i.alpha = aM, g.alpha
+    else:
+        r2 = None
+    st_j = _slider(g, s2, u2_0, p2, q2, r2, order)
+    return DyadOut(st_i, st_j, ok, cond, cond, {"s_i": p1, "s_j": p2})

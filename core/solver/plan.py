@@ -1,0 +1,354 @@
+"""Compile a linkage once into a plan of array kernels; evaluate it on many driver angles at once.
+
+``plan = compile_plan(linkage)``; ``sol = plan.sweep(samples=3600, order=2)`` or
+``plan.evaluate(angles, order=0)``. Only the groups that the requested joints depend on are run,
+and only up to the requested derivative order ("model only what a scene needs").
+"""
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from typing import Callable, Iterable
+
+import numpy as np
+
+from ..model.linkage import JointKind, Linkage
+from . import kernels as K
+from .structure import Group, decompose, mobility
+
+#: below this conditioning (|sin| of the velocity system's column angle) a sample is near a toggle
+TOGGLE_COND = 1e-3
+
+
+def _c(xy) -> complex:
+    return complex(float(xy[0]), float(xy[1]))
+
+
+@dataclass
+class Step:
+    """A compiled group: its record, the links it needs known, and its kernel call."""
+
+    group: Group
+    needs: tuple[str, str]
+    run: Callable[[dict, int], K.DyadOut]
+
+
+@dataclass
+class Plan:
+    """The compiled solving order of a linkage (driver, then dyads)."""
+
+    linkage: Linkage
+    groups: list[Group]
+    steps: list[Step]
+    pivot: complex
+    theta0: float
+    reporter: dict[str, str]          # joint -> link whose frame reports its position
+    angle0: dict[str, float]          # moving link -> drawn angle of its first→second joint
+    solved_by: dict[str, int] = field(default_factory=dict)  # link -> step index (-1: driver/ground)
+
+    @property
+    def mobility(self) -> int:
+        return mobility(self.linkage)
+
+    @property
+    def omega(self) -> float:
+        """Driver angular speed, rad/s (signed, CCW positive)."""
+        return self.linkage.driver.omega
+
+    def steps_for(self, joints: Iterable[str] | None) -> list[int]:
+        """Indices of the steps needed to know ``joints`` (all steps if None)."""
+        if joints is None:
+            return list(range(len(self.steps)))
+        need: set[int] = set()
+        stack = []
+        for j in joints:
+            self.linkage.joint(j)
+            stack.append(self.reporter[j])
+        while stack:
+            link = stack.pop()
+            k = self.solved_by[link]
+            if k >= 0 and k not in need:
+                need.add(k)
+                stack.extend(self.steps[k].needs)
+        return sorted(need)
+
+    def evaluate(self, inputs, order: int = 2, omega: float | None = None, alpha: float = 0.0,
+                 joints: Iterable[str] | None = None, t=None) -> "Solution":
+        """Solve at driver angles ``inputs`` (rad, shape (N,)), with driver speed ``omega`` (rad/s).
+
+        ``order`` 0: positions; 1: + velocities; 2: + accelerations. ``joints``: only what these
+        depend on is computed.
+        """
+        if order not in (0, 1, 2):
+            raise ValueError(f"order must be 0, 1 or 2, got {order}")
+        start = time.perf_counter()
+        inputs = np.asarray(inputs, dtype=float).reshape(-1)
+        w = self.omega if omega is None else float(omega)
+        drv = self.linkage.driver
+        states: dict[str, K.LinkState] = {self.linkage.ground: K.ground_state(),
+                                          drv.link: K.crank(self.pivot, self.theta0, inputs, w, alpha, order)}
+        outs: dict[str, K.DyadOut] = {}
+        idx = self.steps_for(joints)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            for k in idx:
+                step = self.steps[k]
+                out = step.run(states, order)
+                states[step.group.link_i] = out.state_i
+                states[step.group.link_j] = out.state_j
+                outs[step.group.name] = out
+            valid = np.ones(inputs.shape, dtype=bool)
+            for out in outs.values():
+                valid &= out.ok
+        elapsed = time.perf_counter() - start
+        return Solution(self, inputs, order, states, outs, valid, w, t, elapsed)
+
+    def sweep(self, samples: int | None = None, order: int = 2, joints: Iterable[str] | None = None
+              ) -> "Solution":
+        """One driver revolution from the drawn pose, in the driver's direction, N samples.
+
+        Sample k is at input θ0 + sign(ω)·2πk/N and time t = k·T/N (T = 60/|rpm| s).
+        """
+        n = int(samples or self.linkage.samples)
+        if n < 2:
+            raise ValueError(f"samples must be at least 2, got {n}")
+        k = np.arange(n)
+        sgn = 1.0 if self.omega >= 0 else -1.0
+        inputs = self.theta0 + sgn * (2.0 * math.pi / n) * k
+        t = k * (2.0 * math.pi / abs(self.omega) / n)
+        return self.evaluate(inputs, order=order, joints=joints, t=t)
+
+
+def _axis(linkage: Linkage, jid: str) -> tuple[complex, complex]:
+    j = linkage.joint(jid)
+    a = math.radians(j.axis_deg or 0.0)
+    return _c(j.at), complex(math.cos(a), math.sin(a))
+
+
+def _compile_step(linkage: Linkage, g: Group) -> Step:
+    at = {j.id: _c(j.at) for j in linkage.joints}
+    ki, kj = g.known_i, g.known_j
+    if g.kind == "RRR":
+        m0, h0, l0 = at[g.outer_i], at[g.outer_j], at[g.inner]
+        run = lambda s, o: K.rrr(s[ki], m0, s[kj], h0, l0, o)  # noqa: E731
+    elif g.kind == "RRP":
+        m0, l0 = at[g.outer_i], at[g.inner]
+        s0, u0 = _axis(linkage, g.outer_j)
+        run = lambda s, o: K.rrp(s[ki], m0, s[kj], s0, u0, l0, o)  # noqa: E731
+    elif g.kind == "RPR":
+        m0, h0 = at[g.outer_i], at[g.outer_j]
+        s0, u0 = _axis(linkage, g.inner)
+        run = lambda s, o: K.rpr(s[ki], m0, s[kj], h0, s0, u0, o)  # noqa: E731
+    elif g.kind == "PRP":
+        s1, u1 = _axis(linkage, g.outer_i)
+        s2, u2 = _axis(linkage, g.outer_j)
+        l0 = at[g.inner]
+        run = lambda s, o: K.prp(s[ki], s1, u1, s[kj], s2, u2, l0, o)  # noqa: E731
+    else:  # RPP
+        m0 = at[g.outer_i]
+        si0, ui0 = _axis(linkage, g.inner)
+        s2, u2 = _axis(linkage, g.outer_j)
+        run = lambda s, o: K.rpp(s[ki], m0, si0, ui0, s[kj], s2, u2, o)  # noqa: E731
+    return Step(g, (ki, kj), run)
+
+
+def compile_plan(linkage: Linkage) -> Plan:
+    """Decompose ``linkage`` (raises StructureError) and compile its kernels, once."""
+    groups = decompose(linkage)
+    steps = [_compile_step(linkage, g) for g in groups]
+    drv = linkage.driver
+    pivot = _c(linkage.joint(drv.pivot).at)
+    tip = next(j for j in linkage.link(drv.link).joints if j != drv.pivot)
+    d = _c(linkage.joint(tip).at) - pivot
+    theta0 = math.atan2(d.imag, d.real)
+    solved_by = {linkage.ground: -1, drv.link: -1}
+    for k, g in enumerate(groups):
+        solved_by[g.link_i] = k
+        solved_by[g.link_j] = k
+    order = [linkage.ground, drv.link] + [l for g in groups for l in (g.link_i, g.link_j)]
+    file_order = linkage.link_ids
+    reporter = {}
+    for j in linkage.joints:
+        carriers = linkage.links_of(j.id)
+        if j.kind is JointKind.P:  # the later link in the file carries the reported point
+            reporter[j.id] = max(carriers, key=file_order.index)
+        else:  # the earliest solved link carrying it
+            reporter[j.id] = min(carriers, key=order.index)
+    angle0 = {}
+    for lk in linkage.links:
+        if lk.id == linkage.ground:
+            continue
+        pts = [_c(linkage.joint(j).at) for j in lk.joints[:2]]
+        v = pts[1] - pts[0] if len(pts) == 2 else 0j
+        angle0[lk.id] = math.atan2(v.imag, v.real) if abs(v) > 0 else 0.0
+    return Plan(linkage, groups, steps, pivot, theta0, reporter, angle0, solved_by)
+
+
+def _xy(z: np.ndarray, n: int) -> np.ndarray:
+    """Complex (N,) (or scalar) -> float (N, 2) view."""
+    z = np.ascontiguousarray(np.broadcast_to(z, (n,)), dtype=complex)
+    return z.view(np.float64).reshape(n, 2)
+
+
+def unwrap_finite(a: np.ndarray) -> np.ndarray:
+    """np.unwrap along samples, restarting after NaN gaps (each finite run unwrapped on its own)."""
+    out = np.array(a, dtype=float)
+    fin = np.isfinite(out)
+    if fin.all():
+        return np.unwrap(out)
+    edges = np.flatnonzero(np.diff(np.concatenate(([0], fin.view(np.int8), [0]))))
+    for s, e in zip(edges[::2], edges[1::2]):
+        out[s:e] = np.unwrap(out[s:e])
+    return out
+
+
+class Solution:
+    """Kinematics of a linkage at N driver samples.
+
+    Joint results are (N, 2) arrays (mm, mm/s, mm/s²); link results (N,) (rad, rad/s, rad/s²).
+    Samples where some evaluated group cannot be assembled are NaN and ``valid`` is False there.
+    """
+
+    def __init__(self, plan: Plan, inputs, order, states, outs, valid, omega, t, elapsed):
+        self.plan = plan
+        self.input = inputs
+        self.order = order
+        self.valid = valid
+        self.omega_driver = omega
+        self.t = t if t is not None else (inputs - inputs[0]) / omega if omega else np.zeros_like(inputs)
+        self.elapsed = elapsed
+        self._states = states
+        self._outs = outs
+        self._all_valid = bool(valid.all())
+
+    def __len__(self) -> int:
+        return self.input.shape[0]
+
+    # -- internals ------------------------------------------------------------------------
+    def _state(self, link: str) -> K.LinkState:
+        try:
+            return self._states[link]
+        except KeyError:
+            self.plan.linkage.link(link)
+            raise KeyError(f"link {link!r} was not solved (not requested)") from None
+
+    def _mask(self, a: np.ndarray) -> np.ndarray:
+        if self._all_valid:
+            return a
+        if a.ndim == 2:
+            return np.where(self.valid[:, None], a, np.nan)
+        return np.where(self.valid, a, np.nan)
+
+    def _need(self, order: int, what: str) -> None:
+        if self.order < order:
+            raise ValueError(f"{what} needs a solve with order >= {order} (this one has order {self.order})")
+
+    def _joint(self, joint: str) -> tuple[K.LinkState, complex]:
+        link = self.plan.reporter[joint] if joint in self.plan.reporter else self.plan.linkage.joint(joint)
+        return self._state(link), _c(self.plan.linkage.joint(joint).at)
+
+    # -- joints and points ----------------------------------------------------------------
+    def position(self, joint: str) -> np.ndarray:
+        """(N, 2) position of ``joint``, mm."""
+        st, p0 = self._joint(joint)
+        return self._mask(_xy(st.point(p0), len(self)))
+
+    def velocity(self, joint: str) -> np.ndarray:
+        """(N, 2) velocity, mm/s."""
+        self._need(1, "velocity")
+        st, p0 = self._joint(joint)
+        return self._mask(_xy(st.velocity(p0), len(self)))
+
+    def acceleration(self, joint: str) -> np.ndarray:
+        """(N, 2) acceleration, mm/s²."""
+        self._need(2, "acceleration")
+        st, p0 = self._joint(joint)
+        return self._mask(_xy(st.acceleration(p0), len(self)))
+
+    def point(self, link: str, xy) -> np.ndarray:
+        """(N, 2) position of the point of ``link`` drawn at ``xy`` (mm)."""
+        return self._mask(_xy(self._state(link).point(_c(xy)), len(self)))
+
+    def point_velocity(self, link: str, xy) -> np.ndarray:
+        self._need(1, "velocity")
+        return self._mask(_xy(self._state(link).velocity(_c(xy)), len(self)))
+
+    def point_acceleration(self, link: str, xy) -> np.ndarray:
+        self._need(2, "acceleration")
+        return self._mask(_xy(self._state(link).acceleration(_c(xy)), len(self)))
+
+    # -- links ----------------------------------------------------------------------------
+    def rotation(self, link: str) -> np.ndarray:
+        """(N,) rotation of ``link`` from its drawn pose, rad, unwrapped along the samples."""
+        if link == self.plan.linkage.driver.link:
+            rho = self.input - self.plan.theta0
+        elif link == self.plan.linkage.ground:
+            rho = np.zeros(len(self))
+        else:
+            st = self._state(link)
+            rho = unwrap_finite(np.angle(np.broadcast_to(st.rot, (len(self),))))
+        return self._mask(rho)
+
+    def angle(self, link: str) -> np.ndarray:
+        """(N,) angle of the vector from the link's first joint to its second (rad, unwrapped);
+        where those coincide in the drawn pose, the rotation from the drawn pose."""
+        return self.rotation(link) + self.plan.angle0.get(link, 0.0)
+
+    def omega(self, link: str) -> np.ndarray:
+        """(N,) angular velocity, rad/s (CCW positive)."""
+        self._need(1, "omega")
+        return self._mask(np.broadcast_to(np.asarray(self._state(link).omega, dtype=float), (len(self),)).copy())
+
+    def alpha(self, link: str) -> np.ndarray:
+        """(N,) angular acceleration, rad/s²."""
+        self._need(2, "alpha")
+        return self._mask(np.broadcast_to(np.asarray(self._state(link).alpha, dtype=float), (len(self),)).copy())
+
+    # -- groups ---------------------------------------------------------------------------
+    @property
+    def groups(self) -> list[Group]:
+        return [s.group for s in self.plan.steps if s.group.name in self._outs]
+
+    def group_output(self, name: str) -> K.DyadOut:
+        return self._outs[name]
+
+    def conditioning(self, group: str) -> np.ndarray:
+        """(N,) |det| of the group's velocity system normalised to [0, 1] (0: toggle)."""
+        return self._outs[group].cond
+
+    def feasible(self, group: str) -> np.ndarray:
+        return self._outs[group].ok
+
+    def transmission_angle(self, group: str) -> np.ndarray:
+        """(N,) transmission angle μ of an RRR group, rad in [0, π]: the angle at the inner joint."""
+        g = next(g for g in self.groups if g.name == group)
+        if g.kind != "RRR":
+            raise ValueError(f"transmission angle is defined here for RRR groups; {group} is {g.kind}")
+        L = self.position(g.inner)
+        a = self.position(g.outer_i) - L
+        b = self.position(g.outer_j) - L
+        return np.abs(np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], (a * b).sum(axis=1)))
+
+    def residual(self) -> float:
+        """Max loop-closure residual, mm: each joint computed from every link carrying it agrees.
+
+        For an R joint, the distance between its positions carried by each solved link; for a P
+        joint, the distance of one link's axis point from the other link's axis line.
+        """
+        link = self.plan.linkage
+        worst = 0.0
+        with np.errstate(invalid="ignore"):
+            for j in link.joints:
+                carriers = [c for c in link.links_of(j.id) if c in self._states]
+                if len(carriers) < 2:
+                    continue
+                p0 = _c(j.at)
+                pts = [np.broadcast_to(self._states[c].point(p0), (len(self),)) for c in carriers]
+                if j.kind is JointKind.R:
+                    r = max(np.nanmax(np.abs(p - pts[0])[self.valid], initial=0.0) for p in pts[1:])
+                else:
+                    _, u0 = _axis(link, j.id)
+                    u = np.broadcast_to(self._states[carriers[0]].rot, (len(self),)) * u0
+                    r = np.nanmax(np.abs(K.cross(u, pts[1] - pts[0]))[self.valid], initial=0.0)
+                worst = max(worst, float(r))
+        return worst

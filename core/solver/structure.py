@@ -1,0 +1,130 @@
+"""Structural analysis: mobility (Chebychev–Grübler–Kutzbach) and Assur-group decomposition.
+
+The linkage is split into the driver (a class-I mechanism: a crank on a ground pivot) and class-II
+groups (dyads) of the five kinds RRR, RRP, RPR, PRP, RPP, each attached to links already known.
+Guides may belong to the frame or to moving links. The result is a list of :class:`Group` records
+in solving order; :mod:`mechsketch.core.solver.plan` compiles them into array kernels.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from ..errors import StructureError
+from ..model.linkage import JointKind, Linkage
+
+#: kinds we solve, as (outer joint of link i, inner joint, outer joint of link j)
+DYAD_KINDS = ("RRR", "RRP", "RPR", "PRP", "RPP")
+
+
+@dataclass(frozen=True)
+class Group:
+    """One class-II group (dyad) in solving order.
+
+    ``link_i``/``link_j`` are the two unknown links, ``inner`` the joint between them,
+    ``outer_i``/``outer_j`` their joints to known links ``known_i``/``known_j``. ``kind`` reads
+    outer_i + inner + outer_j (e.g. "RRP": link j is a slider on a guide of ``known_j``).
+    """
+
+    name: str
+    kind: str
+    link_i: str
+    link_j: str
+    inner: str
+    outer_i: str
+    outer_j: str
+    known_i: str
+    known_j: str
+
+    @property
+    def joints(self) -> tuple[str, str, str]:
+        return (self.outer_i, self.inner, self.outer_j)
+
+
+def joint_count(linkage: Linkage) -> int:
+    """Lower pairs counted for mobility: an R joint on k links counts k−1, a P joint 1."""
+    total = 0
+    for j in linkage.joints:
+        k = len(linkage.links_of(j.id))
+        total += max(k - 1, 0) if j.kind is JointKind.R else 1
+    return total
+
+
+def mobility(linkage: Linkage) -> int:
+    """Degrees of freedom F = 3(n − 1) − 2 p (n links with the frame, p lower pairs)."""
+    return 3 * (len(linkage.links) - 1) - 2 * joint_count(linkage)
+
+
+def decompose(linkage: Linkage) -> list[Group]:
+    """Split into driver + dyads, in solving order.
+
+    Raises :class:`StructureError` naming the joints and links at fault when the mobility is not 1
+    or when what remains after the dyads cannot be split into class-II groups.
+    """
+    f = mobility(linkage)
+    if f != 1:
+        state = "under-constrained (it can move freely)" if f > 1 else "over-constrained (it cannot move)"
+        raise StructureError(
+            f"linkage {linkage.id!r} has mobility {f}, needs 1 for one driver: it is {state}. "
+            f"{len(linkage.links)} links, {joint_count(linkage)} lower pairs "
+            f"(F = 3·({len(linkage.links)}−1) − 2·{joint_count(linkage)})",
+            joints=linkage.joint_ids, links=linkage.link_ids)
+    known = {linkage.ground, linkage.driver.link}
+    links = {k.id: k for k in linkage.links}
+    kinds = {j.id: j.kind for j in linkage.joints}
+    members = {j.id: set(linkage.links_of(j.id)) for j in linkage.joints}
+    order = [k.id for k in linkage.links]
+    groups: list[Group] = []
+
+    def outer(link_id: str) -> list[tuple[str, str]]:
+        """(joint, known link) pairs joining ``link_id`` to known links."""
+        out = []
+        for jid in links[link_id].joints:
+            for other in sorted(members[jid] & known, key=order.index):
+                if other != link_id:
+                    out.append((jid, other))
+                    break
+        return out
+
+    while len(known) < len(links):
+        found = None
+        for li in order:
+            if li in known:
+                continue
+            oi = outer(li)
+            if len(oi) != 1:
+                continue
+            for jid in links[li].joints:
+                others = members[jid] - {li}
+                if others & known or len(others) != 1:
+                    continue
+                lj = next(iter(others))
+                oj = outer(lj)
+                if len(oj) != 1 or oj[0][0] == jid:
+                    continue
+                kind = kinds[oi[0][0]].value + kinds[jid].value + kinds[oj[0][0]].value
+                if kind in ("PRR", "PPR"):  # mirror to the canonical kinds RRP, RPP
+                    li_, lj_, oi_, oj_ = lj, li, oj, oi
+                    kind = kind[::-1]
+                else:
+                    li_, lj_, oi_, oj_ = li, lj, oi, oj
+                if kind not in DYAD_KINDS:
+                    raise StructureError(
+                        f"links {li!r} and {lj!r} form a PPP group (three prismatic joints "
+                        f"{oi[0][0]}, {jid}, {oj[0][0]}): its rotation is undetermined",
+                        joints=(oi[0][0], jid, oj[0][0]), links=(li, lj))
+                found = Group(f"{kind}({li_},{lj_})", kind, li_, lj_, jid, oi_[0][0], oj_[0][0],
+                              oi_[0][1], oj_[0][1])
+                break
+            if found:
+                break
+        if found is None:
+            rest = [k for k in order if k not in known]
+            rest_joints = sorted({j for k in rest for j in links[k].joints}, key=linkage.joint_ids.index)
+            raise StructureError(
+                f"linkage {linkage.id!r}: links {', '.join(rest)} do not split into class-II groups "
+                f"(dyads) attached to solved links; they form a higher-class group or are "
+                f"mis-connected (joints {', '.join(rest_joints)})",
+                joints=tuple(rest_joints), links=tuple(rest))
+        groups.append(found)
+        known.update((found.link_i, found.link_j))
+    return groups
