@@ -150,7 +150,18 @@ def diagnose(sol: Solution) -> Diagnostics:
         for k in cand:
             x, cmin = _golden_min(plan, g.name, sol.input[k] - step, sol.input[k] + step)
             dead.append(DeadPoint(float(x), g.name, "toggle", cmin))
-    dead.sort(key=lambda d: (d.input - sol.input[0]) * np.sign(step))
+    th0 = float(sol.input[0])
+    ends = [x for r in reachable for x in r]
+
+    def near_pose(x: float) -> float:
+        """The angle congruent to x (mod 2π) as the reachable ranges state it, else nearest θ0."""
+        for e in ends:
+            if abs(math.remainder(x - e, 2 * math.pi)) < 1e-9:
+                return e
+        return th0 + math.remainder(x - th0, 2 * math.pi)
+
+    dead = [DeadPoint(near_pose(d.input), d.group, d.kind, d.conditioning) for d in dead]
+    dead.sort(key=lambda d: d.input)
     trans = {}
     for g in sol.groups:
         if g.kind == "RRR" and valid.any():
