@@ -54,12 +54,31 @@ def mobility(linkage: Linkage) -> int:
     return 3 * (len(linkage.links) - 1) - 2 * joint_count(linkage)
 
 
+def _check_driver(linkage: Linkage) -> None:
+    """The driver must be a binary link turning about a revolute joint on the ground link."""
+    drv = linkage.driver
+    ids = linkage.link_ids
+    if linkage.ground not in ids:
+        raise StructureError(f"linkage {linkage.id!r} has no ground link {linkage.ground!r}", links=(linkage.ground,))
+    if drv.link not in ids or drv.link == linkage.ground:
+        raise StructureError(f"linkage {linkage.id!r} has no driver yet (driver link {drv.link!r} is not a "
+                             "moving link): add a crank", links=(drv.link,))
+    joints = linkage.link(drv.link).joints
+    if len(joints) != 2 or drv.pivot not in joints:
+        raise StructureError(f"driver {drv.link!r} must be a binary link with its pivot {drv.pivot!r}",
+                             joints=joints, links=(drv.link,))
+    if drv.pivot not in linkage.link(linkage.ground).joints or linkage.joint(drv.pivot).kind is not JointKind.R:
+        raise StructureError(f"driver pivot {drv.pivot!r} must be a revolute joint on the ground link",
+                             joints=(drv.pivot,), links=(drv.link,))
+
+
 def decompose(linkage: Linkage) -> list[Group]:
     """Split into driver + dyads, in solving order.
 
     Raises :class:`StructureError` naming the joints and links at fault when the mobility is not 1
     or when what remains after the dyads cannot be split into class-II groups.
     """
+    _check_driver(linkage)
     f = mobility(linkage)
     if f != 1:
         state = "under-constrained (it can move freely)" if f > 1 else "over-constrained (it cannot move)"
