@@ -195,8 +195,9 @@ class SceneController(QObject):
                 res.plan = el.compile()
                 res.solution = res.plan.sweep(samples=self.samples_override or el.samples, order=2)
                 res.diagnostics = diagnose(res.solution)
-            except MechsketchError as exc:
-                res.error = str(exc)
+            except (MechsketchError, KeyError, ValueError, ZeroDivisionError) as exc:
+                # a linkage half-drawn by the tools is normal: keep the message, never raise
+                res.error = exc.args[0] if isinstance(exc, KeyError) and exc.args else str(exc)
                 self.solveFailed.emit(el.id, res.error)
             res.seconds = time.perf_counter() - t0
             results[el.id] = res
