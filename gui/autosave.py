@@ -1,0 +1,176 @@
+"""Crash recovery: the unsaved scene is written every minute to a per-user recovery folder.
+
+Each running app owns ``recovery-<pid>.json`` (the scene, written atomically) and
+``recovery-<pid>.meta.json`` (where it came from, when). Both are removed when the document is
+saved or reset clean, and on a clean exit; so a recovery file whose process is gone means that
+app crashed, and the next start offers it back. The folder is ``$MECHSKETCH_STATE_DIR`` if set,
+else the platform's per-user state folder.
+"""
+from __future__ import annotations
+
+import json
+import os
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+from PySide6.QtCore import QObject, QTimer, Signal
+
+from mechsketch.core import ExportError, MechsketchError, Scene, SceneFormatError, load_scene
+from mechsketch.core.io.scene_file import atomic_write_text, dumps_scene
+
+from .controller import SceneController
+
+INTERVAL_MS = 60_000
+
+
+def state_dir() -> Path:
+    """The per-user folder for recovery files (and default settings when overridden)."""
+    env = os.environ.get("MECHSKETCH_STATE_DIR")
+    if env:
+        return Path(env)
+    if sys.platform.startswith("win"):
+        base = Path(os.environ.get("LOCALAPPDATA", Path.home() / "AppData" / "Local"))
+    elif sys.platform == "darwin":
+        base = Path.home() / "Library" / "Application Support"
+    else:
+        base = Path(os.environ.get("XDG_STATE_HOME") or Path.home() / ".local" / "state")
+    return base / "mechsketch"
+
+
+def _alive(pid: int) -> bool:
+    """Whether a process ``pid`` exists (ours counts as alive)."""
+    if pid == os.getpid():
+        return True
+    if sys.platform.startswith("win"):  # pragma: no cover - no cheap check; assume it crashed
+        return False
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    except OSError:
+        return False
+    return True
+
+
+@dataclass(frozen=True)
+class Recovery:
+    """A recovery file left by an app that did not exit cleanly."""
+
+    scene_path: Path
+    meta_path: Path
+    original: str | None      # the file the scene was opened from (None: never saved)
+    saved_at: float           # time.time() of the autosave
+
+    def describe(self) -> str:
+        when = time.strftime("%Y-%m-%d %H:%M", time.localtime(self.saved_at))
+        what = Path(self.original).name if self.original else "an unsaved scene"
+        return f"{what}, autosaved {when}"
+
+    def discard(self) -> None:
+        for p in (self.scene_path, self.meta_path):
+            try:
+                p.unlink()
+            except FileNotFoundError:
+                pass
+
+
+class Autosave(QObject):
+    """Writes the dirty scene every ``interval_ms``; offers recovery files of crashed runs."""
+
+    saved = Signal(str)   # path of the recovery file just written
+
+    def __init__(self, controller: SceneController, folder: Path | None = None,
+                 interval_ms: int = INTERVAL_MS, parent: QObject | None = None) -> None:
+        super().__init__(parent)
+        self.controller = controller
+        self.folder = Path(folder) if folder is not None else state_dir()
+        pid = os.getpid()
+        self.scene_file = self.folder / f"recovery-{pid}.json"
+        self.meta_file = self.folder / f"recovery-{pid}.meta.json"
+        self.timer = QTimer(self)
+        self.timer.setObjectName("autosave")
+        self.timer.setInterval(interval_ms)
+        self.timer.timeout.connect(self.save_now)
+        controller.pathChanged.connect(self._on_path_changed)
+
+    def start(self) -> None:
+        self.timer.start()
+
+    def stop(self) -> None:
+        self.timer.stop()
+
+    def save_now(self) -> bool:
+        """Write the scene if it has unsaved changes; True if written. Never raises on I/O."""
+        if not self.controller.is_dirty:
+            return False
+        meta = {"pid": os.getpid(), "time": time.time(),
+                "original": str(self.controller.path) if self.controller.path else None}
+        try:
+            self.folder.mkdir(parents=True, exist_ok=True)
+            atomic_write_text(self.scene_file, dumps_scene(self.controller.scene))
+            atomic_write_text(self.meta_file, json.dumps(meta))
+        except (ExportError, OSError) as exc:
+            self.controller.message.emit(f"autosave failed: {exc}")
+            return False
+        self.saved.emit(str(self.scene_file))
+        return True
+
+    def remove(self) -> None:
+        """Forget this run's recovery file (after a save, a clean reset, or a clean exit)."""
+        for p in (self.scene_file, self.meta_file):
+            try:
+                p.unlink()
+            except FileNotFoundError:
+                pass
+            except OSError as exc:
+                self.controller.message.emit(f"cannot remove {p}: {exc}")
+
+    def clean_exit(self) -> None:
+        self.stop()
+        self.remove()
+
+    def _on_path_changed(self) -> None:
+        if not self.controller.is_dirty:
+            self.remove()
+
+    # -- recovery ----------------------------------------------------------------------------
+    def pending(self) -> list[Recovery]:
+        """Recovery files of runs that are not alive, newest first."""
+        out: list[Recovery] = []
+        if not self.folder.is_dir():
+            return out
+        for meta_path in self.folder.glob("recovery-*.meta.json"):
+            scene_path = meta_path.with_name(meta_path.name.replace(".meta.json", ".json"))
+            try:
+                meta = json.loads(meta_path.read_text(encoding="utf-8"))
+                pid = int(meta.get("pid", -1))
+                saved_at = float(meta.get("time", meta_path.stat().st_mtime))
+                original = meta.get("original")
+            except (OSError, ValueError, TypeError, AttributeError):
+                continue
+            if pid == os.getpid() or _alive(pid) or not scene_path.is_file():
+                continue
+            out.append(Recovery(scene_path, meta_path, original if isinstance(original, str) else None,
+                                saved_at))
+        return sorted(out, key=lambda r: r.saved_at, reverse=True)
+
+    def restore(self, recovery: Recovery) -> Scene | None:
+        """Load a recovery file into the controller as an unsaved document; the file is then
+        adopted (our own autosave takes over). Returns the scene, or None (with a message)."""
+        try:
+            scene = load_scene(recovery.scene_path)
+        except (SceneFormatError, MechsketchError, OSError) as exc:
+            self.controller.message.emit(f"cannot restore {recovery.scene_path}: {exc}")
+            return None
+        original = Path(recovery.original) if recovery.original else None
+        self.controller.reset(scene, original)
+        self.controller.undo_stack.resetClean()   # restored work is unsaved work
+        self.controller.pathChanged.emit()
+        recovery.discard()
+        self.save_now()
+        self.controller.message.emit(f"restored {recovery.describe()}")
+        return scene

@@ -1,0 +1,86 @@
+"""The diagnostics panel: for each linkage, mobility, the Assur groups found (kind, mode), reachable
+input ranges, dead points, transmission-angle range, and the solve's time and loop-closure error.
+
+The text comes from the core's :meth:`Diagnostics.lines` (the same as ``mechsketch analyze``), so
+every number here can be reproduced headless. A linkage that cannot be solved shows its error.
+"""
+from __future__ import annotations
+
+import html
+
+from PySide6.QtWidgets import QTextBrowser, QVBoxLayout, QWidget
+
+from mechsketch.core.model.linkage import Linkage
+
+from ..controller import SceneController
+
+
+def diagnostics_lines(controller: SceneController) -> list[tuple[str, str]]:
+    """(style, text) lines: style is "head", "error" or "" (pure: reads the controller)."""
+    out: list[tuple[str, str]] = []
+    els = controller.scene.elements
+    if not els:
+        return [("", "The scene is empty.")]
+    for el in els:
+        if not isinstance(el, Linkage):
+            out.append(("head", f"{el.type} {el.id}"))
+            out.append(("", "no diagnostics for this element type in the app yet "
+                            f"(try: mechsketch analyze SCENE --element {el.id})"))
+            continue
+        res = controller.result(el.id)
+        out.append(("head", f"linkage {el.id}: {len(el.links)} links, {len(el.joints)} joints, "
+                            f"driver {el.driver.link} at {el.driver.speed_rpm:g} rpm"))
+        if res is None:
+            out.append(("error", "not solved yet"))
+        elif res.error is not None:
+            out.append(("error", f"cannot solve: {res.error}"))
+        elif res.diagnostics is not None:
+            out.extend(("", line) for line in res.diagnostics.lines())
+            out.append(("", f"solve + diagnostics in the app: {res.seconds * 1e3:.2f} ms"))
+    return out
+
+
+class DiagnosticsPanel(QWidget):
+    """Read-only text of :func:`diagnostics_lines`, refreshed when the solutions change."""
+
+    def __init__(self, controller: SceneController, parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.controller = controller
+        self.text = QTextBrowser()
+        self.text.setObjectName("diagnosticsText")
+        self.text.setOpenLinks(False)
+        layout = QVBoxLayout(self)
+        layout.setContentsMargins(2, 2, 2, 2)
+        layout.addWidget(self.text)
+        self._stale = True
+        controller.solutionsChanged.connect(self._invalidate)
+        self.refresh()
+
+    def _invalidate(self) -> None:
+        self._stale = True
+        if self.isVisible():
+            self.refresh()
+
+    def showEvent(self, event) -> None:  # noqa: N802 - Qt override
+        super().showEvent(event)
+        if self._stale:
+            self.refresh()
+
+    def refresh(self) -> None:
+        self._stale = False
+        parts = []
+        for style, line in diagnostics_lines(self.controller):
+            text = html.escape(line)
+            if style == "head":
+                parts.append(f"<p style='margin-top:6px; margin-bottom:2px'><b>{text}</b></p>")
+            elif style == "error":
+                parts.append(f"<p style='color:#b00020; margin:0'>{text}</p>")
+            else:
+                parts.append(f"<p style='margin:0; margin-left:10px'>{text}</p>")
+        self.text.setHtml("".join(parts))
+
+    def plain_text(self) -> str:
+        """What the panel shows, as plain text."""
+        if self._stale:
+            self.refresh()
+        return self.text.toPlainText()

@@ -1,0 +1,235 @@
+"""Kinematic plots of the selected joint or link against the driver's input angle (pyqtgraph).
+
+Four stacked plots sharing the x axis (input angle, °): position (joint x, y in mm; link angle in °),
+velocity (vx, vy, |v| in mm/s; ω in rad/s), acceleration (ax, ay, |a| in mm/s²; ε in rad/s²) and the
+transmission angle μ (°) of every RRR group. Plots read the controller's precomputed solution;
+NaN (a pose that cannot be assembled) breaks the line (``connect="finite"``). A vertical cursor
+follows the animation frame. The plotted data exports as CSV (a core :class:`Table`) and the
+plots as a PNG.
+"""
+from __future__ import annotations
+
+import os
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pyqtgraph as pg
+from pyqtgraph.exporters import ImageExporter
+from PySide6.QtWidgets import QHBoxLayout, QLabel, QToolButton, QVBoxLayout, QWidget
+
+from mechsketch.core import ExportError
+from mechsketch.core.io.table import Table, write_csv
+from mechsketch.core.model.linkage import Linkage
+
+from ..controller import SceneController
+
+PLOTS = (("position", "position"), ("velocity", "velocity"), ("acceleration", "acceleration"),
+         ("transmission", "transmission angle μ (°)"))
+COLORS = ("#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b")
+
+
+@dataclass
+class Series:
+    """One plotted curve: ``plot`` name, curve ``name``, ``unit`` and (N,) values."""
+
+    plot: str
+    name: str
+    unit: str
+    y: np.ndarray
+
+
+@dataclass
+class PlotData:
+    """Everything the plots show: a title, the x values (input angle, °) and the curves."""
+
+    title: str
+    x: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    series: list[Series] = field(default_factory=list)
+    labels: dict[str, str] = field(default_factory=dict)   # plot -> y-axis label with unit
+
+    def table(self) -> Table:
+        """The plotted data as a table: ``input_deg`` then one column per curve (unit in the name)."""
+        cols = {"input_deg": self.x}
+        for s in self.series:
+            cols[f"{s.name}_{s.unit}".replace("/", "_per_").replace("²", "2").replace("°", "deg")] = s.y
+        return Table.from_columns(cols)
+
+
+def _target(controller: SceneController) -> tuple[Linkage, str, str] | None:
+    """(linkage, "joint"|"link", id) to plot: the selection, else the last group's inner joint."""
+    for eid, kind, ident in controller.selection:
+        try:
+            el = controller.scene.element(eid)
+        except KeyError:
+            continue
+        if isinstance(el, Linkage) and ident in (el.joint_ids if kind == "joint" else el.link_ids):
+            return el, kind, ident
+    for lk in controller.linkages():
+        res = controller.result(lk.id)
+        if res is not None and res.plan is not None and res.plan.steps:
+            return lk, "joint", res.plan.steps[-1].group.inner
+        if lk.joints:
+            return lk, "joint", lk.joint_ids[-1]
+    return None
+
+
+def plot_data(controller: SceneController) -> PlotData:
+    """What to plot for the controller's current selection (pure: reads, never writes)."""
+    target = _target(controller)
+    if target is None:
+        return PlotData("nothing to plot: the scene has no linkage")
+    lk, kind, ident = target
+    res = controller.result(lk.id)
+    if res is None or res.solution is None:
+        return PlotData(f"{lk.id} is not solved: {res.error if res else 'no result'}")
+    sol = res.solution
+    data = PlotData(f"{kind} {ident} of {lk.id}", np.degrees(sol.input))
+    S = data.series
+    try:
+        if kind == "joint":
+            p, v, a = sol.position(ident), sol.velocity(ident), sol.acceleration(ident)
+            S += [Series("position", f"{ident}.x", "mm", p[:, 0]), Series("position", f"{ident}.y", "mm", p[:, 1]),
+                  Series("velocity", f"{ident}.vx", "mm/s", v[:, 0]),
+                  Series("velocity", f"{ident}.vy", "mm/s", v[:, 1]),
+                  Series("velocity", f"|v {ident}|", "mm/s", np.hypot(v[:, 0], v[:, 1])),
+                  Series("acceleration", f"{ident}.ax", "mm/s²", a[:, 0]),
+                  Series("acceleration", f"{ident}.ay", "mm/s²", a[:, 1]),
+                  Series("acceleration", f"|a {ident}|", "mm/s²", np.hypot(a[:, 0], a[:, 1]))]
+            data.labels.update(position="position (mm)", velocity="velocity (mm/s)",
+                               acceleration="acceleration (mm/s²)")
+        elif ident == lk.ground:
+            data.title += " (the frame does not move)"
+        else:
+            S += [Series("position", f"{ident}.angle", "°", np.degrees(sol.angle(ident))),
+                  Series("velocity", f"{ident}.ω", "rad/s", sol.omega(ident)),
+                  Series("acceleration", f"{ident}.ε", "rad/s²", sol.alpha(ident))]
+            data.labels.update(position="angle (°)", velocity="ω (rad/s)", acceleration="ε (rad/s²)")
+    except (KeyError, ValueError) as exc:
+        data.title += f" — {exc}"
+    for g in sol.groups:
+        if g.kind == "RRR":
+            S.append(Series("transmission", f"μ {g.name}", "°", np.degrees(sol.transmission_angle(g.name))))
+    data.labels["transmission"] = "μ (°)"
+    return data
+
+
+class PlotsPanel(QWidget):
+    """Docked kinematic plots with a cursor synced to ``controller.frame``."""
+
+    def __init__(self, controller: SceneController, parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.controller = controller
+        self.title = QLabel()
+        self.title.setObjectName("plotTitle")
+        self._header = QHBoxLayout()
+        self._header.addWidget(self.title, 1)
+        self.graphics = pg.GraphicsLayoutWidget()
+        self.graphics.setBackground("w")
+        self.plots: dict[str, pg.PlotItem] = {}
+        self.cursors: dict[str, pg.InfiniteLine] = {}
+        self.curves: dict[str, pg.PlotDataItem] = {}
+        first = None
+        for row, (name, label) in enumerate(PLOTS):
+            plot = self.graphics.addPlot(row=row, col=0)
+            plot.showGrid(x=True, y=True, alpha=0.25)
+            plot.setLabel("left", label)
+            plot.addLegend(offset=(-10, 5), labelTextSize="8pt")
+            plot.setMenuEnabled(False)
+            if first is not None:
+                plot.setXLink(first)
+            first = first or plot
+            cursor = pg.InfiniteLine(angle=90, movable=False, pen=pg.mkPen("#555", width=1, style=pg.QtCore.Qt.PenStyle.DashLine))
+            plot.addItem(cursor, ignoreBounds=True)
+            self.plots[name], self.cursors[name] = plot, cursor
+        self.plots["transmission"].setLabel("bottom", "input angle (°)")
+        layout = QVBoxLayout(self)
+        layout.setContentsMargins(2, 2, 2, 2)
+        layout.addLayout(self._header)
+        layout.addWidget(self.graphics, 1)
+        self.data = PlotData("")
+        self._stale = True
+        controller.solutionsChanged.connect(self._invalidate)
+        controller.selectionChanged.connect(self._invalidate)
+        controller.frameChanged.connect(self._move_cursor)
+        self.refresh()
+
+    def add_header_actions(self, actions) -> None:
+        """Put buttons for ``actions`` (e.g. Export PNG / CSV) next to the title."""
+        for action in actions:
+            button = QToolButton()
+            button.setDefaultAction(action)
+            self._header.addWidget(button)
+
+    # -- updating ----------------------------------------------------------------------------
+    def _invalidate(self) -> None:
+        self._stale = True
+        if self.isVisible():
+            self.refresh()
+
+    def showEvent(self, event) -> None:  # noqa: N802 - Qt override
+        super().showEvent(event)
+        if self._stale:
+            self.refresh()
+
+    def refresh(self) -> None:
+        """Re-read the controller and redraw every curve."""
+        self._stale = False
+        self.data = data = plot_data(self.controller)
+        self.title.setText(data.title)
+        for name, plot in self.plots.items():
+            for item in list(plot.listDataItems()):
+                plot.removeItem(item)
+            if name in data.labels:
+                plot.setLabel("left", data.labels[name])
+        self.curves.clear()
+        counts: dict[str, int] = {}
+        for s in data.series:
+            k = counts.get(s.plot, 0)
+            counts[s.plot] = k + 1
+            curve = self.plots[s.plot].plot(data.x, s.y, pen=pg.mkPen(COLORS[k % len(COLORS)], width=1.5),
+                                            name=f"{s.name} ({s.unit})", connect="finite")
+            self.curves[s.name] = curve
+        self._move_cursor(self.controller.frame)
+
+    def _move_cursor(self, frame: int) -> None:
+        x = self.data.x
+        visible = bool(x.size) and 0 <= frame < x.size
+        for cursor in self.cursors.values():
+            cursor.setVisible(visible)
+            if visible:
+                cursor.setValue(float(x[frame]))
+
+    def cursor_x(self) -> float:
+        """Where the cursor is (input angle, °)."""
+        return float(self.cursors["position"].value())
+
+    # -- export ------------------------------------------------------------------------------
+    def export_csv(self, path: str | os.PathLike) -> None:
+        """Write the plotted data as CSV (atomic); raises :class:`ExportError` naming the path."""
+        write_csv(self.data.table(), path)
+
+    def export_png(self, path: str | os.PathLike, width: int = 1200) -> None:
+        """Write the plots as a PNG image (atomic); raises :class:`ExportError` naming the path."""
+        if self._stale:
+            self.refresh()
+        target = Path(path)
+        exporter = ImageExporter(self.graphics.scene())
+        exporter.parameters()["width"] = int(width)
+        image = exporter.export(toBytes=True)
+        tmp = None
+        try:
+            fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".png", dir=target.parent)
+            os.close(fd)
+            if image is None or not image.save(tmp, "PNG"):
+                raise ExportError(f"cannot write {target}: the image could not be encoded")
+            os.replace(tmp, target)
+            tmp = None
+        except ExportError:
+            raise
+        except OSError as exc:
+            raise ExportError(f"cannot write {target}: {exc.strerror or exc}") from None
+        finally:
+            if tmp is not None and os.path.exists(tmp):
+                os.unlink(tmp)

@@ -1,0 +1,361 @@
+"""The properties panel: what is selected, with its numbers editable (every edit is one undo command).
+
+Shows, for the linkage of the selection (or the first linkage): the selected joint's coordinates
+(and a prismatic joint's axis), the selected link's lengths, the driver's speed and direction, and
+each Assur group's assembly mode with a Flip button. A selector at the top lets the user pick a
+joint or link without the canvas. The panel holds no model state: it reads ``controller.scene``
+and changes it only through ``controller.push``.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+from typing import Callable
+
+from PySide6.QtWidgets import (QComboBox, QFormLayout, QGroupBox, QHBoxLayout, QLabel, QLineEdit,
+                               QPushButton, QScrollArea, QVBoxLayout, QWidget)
+
+from mechsketch.core import MechsketchError, MoveJoint, ReplaceElement
+from mechsketch.core.model.linkage import Driver, JointKind, Linkage
+
+from ..controller import SceneController
+from .flip import FLIPPABLE, flip_edit
+
+Selection = tuple[str, str, str]
+
+
+def fmt(value: float) -> str:
+    """A number as shown in an editable field (enough digits to round-trip a typed value)."""
+    return f"{value:.6f}".rstrip("0").rstrip(".") if math.isfinite(value) else "nan"
+
+
+def length_edit_moves(linkage: Linkage, link_id: str, length: float) -> tuple[str, tuple[float, float]]:
+    """(joint, new position) that gives binary link ``link_id`` the length ``length`` (mm).
+
+    The joint on the ground (or the driver's pivot) stays; the other one moves along the link.
+    """
+    if not (length > 0.0 and math.isfinite(length)):
+        raise ValueError(f"a link length must be a positive number of mm, got {length}")
+    a, b = linkage.link(link_id).joints[:2]
+    ground = set(linkage.link(linkage.ground).joints) | {linkage.driver.pivot}
+    if b in ground and a not in ground:
+        a, b = b, a
+    pa, pb = linkage.joint(a).at, linkage.joint(b).at
+    dx, dy = pb[0] - pa[0], pb[1] - pa[1]
+    d = math.hypot(dx, dy)
+    ux, uy = (dx / d, dy / d) if d > 0 else (1.0, 0.0)
+    return b, (pa[0] + ux * length, pa[1] + uy * length)
+
+
+class PropertiesPanel(QWidget):
+    """Edits of the selection and of its linkage, as undo commands through the controller."""
+
+    def __init__(self, controller: SceneController, parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.controller = controller
+        self.selector = QComboBox()
+        self.selector.setObjectName("selector")
+        self.selector.activated.connect(self._on_selector)
+        self._content = QWidget()
+        self._content_layout = QVBoxLayout(self._content)
+        self._content_layout.setContentsMargins(0, 0, 0, 0)
+        scroll = QScrollArea()
+        scroll.setWidgetResizable(True)
+        scroll.setWidget(self._content)
+        layout = QVBoxLayout(self)
+        layout.addWidget(self.selector)
+        layout.addWidget(scroll)
+        #: editable fields by name ("x", "y", "axis", "length:B-C", "speed"), for tests and refresh
+        self.fields: dict[str, QLineEdit] = {}
+        self.flip_buttons: dict[str, QPushButton] = {}
+        self.direction: QComboBox | None = None
+        self._refreshers: list[Callable[[], None]] = []
+        self._key: object = None
+        controller.sceneChanged.connect(self.refresh)
+        controller.selectionChanged.connect(self.refresh)
+        self.refresh()
+
+    # -- what to show ------------------------------------------------------------------------
+    def linkage(self) -> Linkage | None:
+        """The linkage of the selection, else the scene's first linkage."""
+        sel = self.controller.selection
+        if sel:
+            try:
+                el = self.controller.scene.element(sel[0][0])
+            except KeyError:
+                el = None
+            if isinstance(el, Linkage):
+                return el
+        links = self.controller.linkages()
+        return links[0] if links else None
+
+    def selected(self) -> Selection | None:
+        """The first selected joint or link that still exists."""
+        for eid, kind, ident in self.controller.selection:
+            try:
+                el = self.controller.scene.element(eid)
+                (el.joint if kind == "joint" else el.link)(ident)
+            except (KeyError, AttributeError):
+                continue
+            return eid, kind, ident
+        return None
+
+    def _structure_key(self) -> object:
+        lk = self.linkage()
+        if lk is None:
+            return ("elements", self.controller.scene.ids)
+        groups = ()
+        res = self.controller.result(lk.id)
+        if res is not None and res.plan is not None:
+            groups = tuple(s.group.name for s in res.plan.steps)
+        return (lk.id, lk.joint_ids, tuple((k.id, k.joints) for k in lk.links), lk.ground,
+                lk.driver.link, self.selected(), groups, tuple(j.kind for j in lk.joints))
+
+    def refresh(self) -> None:
+        """Rebuild the panel if what it shows changed shape; else update the values in place."""
+        self._fill_selector()
+        key = self._structure_key()
+        if key != self._key:
+            self._key = key
+            self._rebuild()
+        for update in self._refreshers:
+            update()
+
+    def _fill_selector(self) -> None:
+        items: list[tuple[str, Selection | None]] = [("(nothing selected)", None)]
+        for lk in self.controller.linkages():
+            items += [(f"{lk.id}: joint {j}", (lk.id, "joint", j)) for j in lk.joint_ids]
+            items += [(f"{lk.id}: link {k}", (lk.id, "link", k)) for k in lk.link_ids]
+        current = self.selected()
+        self.selector.blockSignals(True)
+        if [self.selector.itemData(i) for i in range(self.selector.count())] != [d for _, d in items]:
+            self.selector.clear()
+            for text, data in items:
+                self.selector.addItem(text, data)
+        datas = [d for _, d in items]
+        self.selector.setCurrentIndex(datas.index(current) if current in datas else 0)
+        self.selector.blockSignals(False)
+
+    def _on_selector(self, index: int) -> None:
+        data = self.selector.itemData(index)
+        self.controller.set_selection([tuple(data)] if data else [])
+
+    # -- building ----------------------------------------------------------------------------
+    def _rebuild(self) -> None:
+        self.fields.clear()
+        self.flip_buttons.clear()
+        self.direction = None
+        self._refreshers.clear()
+        while self._content_layout.count():
+            item = self._content_layout.takeAt(0)
+            if item.widget() is not None:
+                item.widget().deleteLater()
+        lk = self.linkage()
+        if lk is None:
+            self._content_layout.addWidget(self._elements_box())
+        else:
+            sel = self.selected()
+            if sel is not None and sel[1] == "joint":
+                self._content_layout.addWidget(self._joint_box(lk.id, sel[2]))
+            elif sel is not None and sel[1] == "link":
+                self._content_layout.addWidget(self._link_box(lk.id, sel[2]))
+            else:
+                hint = QLabel("Select a joint or a link (on the canvas or above) to edit it.")
+                hint.setWordWrap(True)
+                self._content_layout.addWidget(hint)
+            self._content_layout.addWidget(self._driver_box(lk.id))
+            self._content_layout.addWidget(self._modes_box(lk.id))
+        self._content_layout.addStretch(1)
+
+    def _elements_box(self) -> QGroupBox:
+        box = QGroupBox("Scene")
+        form = QFormLayout(box)
+        els = self.controller.scene.elements
+        if not els:
+            form.addRow(QLabel("The scene is empty: draw a linkage or open an example."))
+        for e in els:
+            form.addRow(QLabel(e.id), QLabel(f"{e.type} (no editable properties in this version)"))
+        return box
+
+    def _field(self, name: str, read: Callable[[], float], write: Callable[[float], None]) -> QLineEdit:
+        """A number field: shows ``read()``; Enter (or leaving it) with a new value calls ``write``."""
+        edit = QLineEdit()
+        edit.setObjectName(name)
+        self.fields[name] = edit
+        shown = {"text": ""}
+
+        def update() -> None:
+            if edit.hasFocus() and edit.isModified():
+                return
+            try:
+                text = fmt(read())
+            except (KeyError, ValueError):
+                return
+            shown["text"] = text
+            edit.setText(text)
+            edit.setModified(False)
+
+        def commit() -> None:
+            text = edit.text().strip()
+            if text == shown["text"]:
+                return
+            try:
+                value = float(text)
+                if not math.isfinite(value):
+                    raise ValueError(f"{text!r} is not a finite number")
+            except ValueError:
+                self.controller.message.emit(f"{name}: {text!r} is not a number")
+                edit.setText(shown["text"])
+                return
+            try:
+                write(value)
+            except (MechsketchError, KeyError, ValueError) as exc:
+                self.controller.message.emit(f"{name}: {exc}")
+                edit.setText(shown["text"])
+
+        edit.editingFinished.connect(commit)
+        self._refreshers.append(update)
+        return edit
+
+    @staticmethod
+    def _row(edit: QWidget, unit: str) -> QWidget:
+        w = QWidget()
+        h = QHBoxLayout(w)
+        h.setContentsMargins(0, 0, 0, 0)
+        h.addWidget(edit, 1)
+        h.addWidget(QLabel(unit))
+        return w
+
+    def _lk(self, eid: str) -> Linkage:
+        return self.controller.scene.element(eid)
+
+    def _joint_box(self, eid: str, jid: str) -> QGroupBox:
+        joint = self._lk(eid).joint(jid)
+        box = QGroupBox(f"Joint {jid} ({'revolute' if joint.kind is JointKind.R else 'prismatic'})")
+        form = QFormLayout(box)
+        for axis, i in (("x", 0), ("y", 1)):
+            def write(v: float, i: int = i) -> None:
+                at = list(self._lk(eid).joint(jid).at)
+                at[i] = v
+                self.controller.push(MoveJoint(eid, jid, (at[0], at[1])), f"move joint {jid}")
+            edit = self._field(axis, lambda i=i: self._lk(eid).joint(jid).at[i], write)
+            form.addRow(f"{axis}", self._row(edit, "mm"))
+        if joint.kind is JointKind.P:
+            def write_axis(v: float) -> None:
+                lk = self._lk(eid)
+                new = lk.with_joint(replace(lk.joint(jid), axis_deg=v))
+                self.controller.push(ReplaceElement(new, f"set axis of {jid}"), f"set axis of {jid}")
+            edit = self._field("axis", lambda: self._lk(eid).joint(jid).axis_deg or 0.0, write_axis)
+            form.addRow("slide axis", self._row(edit, "°"))
+        form.addRow("links", QLabel(", ".join(self._lk(eid).links_of(jid)) or "none"))
+        return box
+
+    def _link_box(self, eid: str, kid: str) -> QGroupBox:
+        lk = self._lk(eid)
+        link = lk.link(kid)
+        role = " (ground)" if kid == lk.ground else " (driver)" if kid == lk.driver.link else ""
+        box = QGroupBox(f"Link {kid}{role}")
+        form = QFormLayout(box)
+        form.addRow("joints", QLabel(", ".join(link.joints)))
+        binary = len(link.joints) == 2 and kid != lk.ground
+        for k, a in enumerate(link.joints):
+            for b in link.joints[k + 1:]:
+                def read(a: str = a, b: str = b) -> float:
+                    la = self._lk(eid)
+                    pa, pb = la.joint(a).at, la.joint(b).at
+                    return math.hypot(pb[0] - pa[0], pb[1] - pa[1])
+                if binary:
+                    def write(v: float) -> None:
+                        jid, at = length_edit_moves(self._lk(eid), kid, v)
+                        self.controller.push(MoveJoint(eid, jid, at), f"set length of {kid}")
+                    edit = self._field(f"length:{a}-{b}", read, write)
+                    edit.setToolTip("Moves the joint away from the ground along the link; "
+                                    "the other links keep their drawn joints.")
+                    form.addRow(f"{a}–{b}", self._row(edit, "mm"))
+                else:
+                    label = QLabel()
+                    self._refreshers.append(lambda label=label, read=read: label.setText(f"{read():.4f} mm"))
+                    form.addRow(f"{a}–{b}", label)
+        return box
+
+    def _driver_box(self, eid: str) -> QGroupBox:
+        lk = self._lk(eid)
+        box = QGroupBox(f"Driver: {lk.driver.link} about {lk.driver.pivot} ({eid})")
+        form = QFormLayout(box)
+
+        def write_speed(v: float) -> None:
+            if v <= 0:
+                raise ValueError("the speed must be positive (choose the direction below)")
+            d = self._lk(eid).driver
+            sign = 1.0 if d.speed_rpm > 0 else -1.0
+            self._push_driver(eid, replace(d, speed_rpm=sign * v), "set driver speed")
+        speed = self._field("speed", lambda: abs(self._lk(eid).driver.speed_rpm), write_speed)
+        form.addRow("speed", self._row(speed, "rpm"))
+        omega = QLabel()
+        self._refreshers.append(lambda: omega.setText(f"{abs(self._lk(eid).driver.omega):.6g} rad/s"))
+        form.addRow("", omega)
+        direction = QComboBox()
+        direction.setObjectName("direction")
+        direction.addItems(["counter-clockwise (CCW)", "clockwise (CW)"])
+        self.direction = direction
+
+        def show_direction() -> None:
+            direction.blockSignals(True)
+            direction.setCurrentIndex(0 if self._lk(eid).driver.speed_rpm > 0 else 1)
+            direction.blockSignals(False)
+
+        def write_direction(index: int) -> None:
+            d = self._lk(eid).driver
+            want = abs(d.speed_rpm) * (1.0 if index == 0 else -1.0)
+            if want != d.speed_rpm:
+                self._push_driver(eid, replace(d, speed_rpm=want), "reverse driver")
+        direction.activated.connect(write_direction)
+        self._refreshers.append(show_direction)
+        form.addRow("direction", direction)
+        return box
+
+    def _push_driver(self, eid: str, driver: Driver, text: str) -> None:
+        self.controller.push(ReplaceElement(self._lk(eid).with_driver(driver), text), text)
+
+    def _modes_box(self, eid: str) -> QGroupBox:
+        box = QGroupBox("Assembly modes")
+        form = QFormLayout(box)
+        res = self.controller.result(eid)
+        if res is None or res.plan is None:
+            msg = QLabel(f"not solved: {res.error}" if res is not None and res.error else "not solved")
+            msg.setWordWrap(True)
+            form.addRow(msg)
+            return box
+        for step in res.plan.steps:
+            g = step.group
+            label = QLabel()
+            row = QWidget()
+            h = QHBoxLayout(row)
+            h.setContentsMargins(0, 0, 0, 0)
+            h.addWidget(label, 1)
+            if g.kind in FLIPPABLE:
+                button = QPushButton("Flip")
+                button.setObjectName(f"flip:{g.name}")
+                button.setToolTip("Redraw the group in its other assembly mode (lengths kept)")
+                button.clicked.connect(lambda _=False, name=g.name: self.flip(eid, name))
+                self.flip_buttons[g.name] = button
+                h.addWidget(button)
+
+            def show(label: QLabel = label, name: str = g.name) -> None:
+                r = self.controller.result(eid)
+                mode = None
+                if r is not None and r.diagnostics is not None:
+                    mode = next((m for n, _, m in r.diagnostics.groups if n == name), None)
+                label.setText("mode —" if mode is None else f"mode {mode:+.0f}")
+            self._refreshers.append(show)
+            form.addRow(f"{g.name}", row)
+        return box
+
+    def flip(self, eid: str, group: str) -> bool:
+        """Flip ``group``'s assembly mode as one undo command; False (and a message) if refused."""
+        try:
+            edit = flip_edit(self._lk(eid), group)
+        except (MechsketchError, KeyError, ValueError) as exc:
+            self.controller.message.emit(f"cannot flip {group}: {exc}")
+            return False
+        return self.controller.push(edit, f"flip {group}")
