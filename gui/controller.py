@@ -71,7 +71,7 @@ class SceneController(QObject):
         super().__init__(parent)
         self.document = Document(scene)
         self.undo_stack = QUndoStack(self)
-        self.undo_stack.cleanChanged.connect(lambda _clean: self.pathChanged.emit())
+        self.undo_stack.cleanChanged.connect(self._on_clean_changed)
         self.path: Path | None = None
         self.samples_override: int | None = None
         self.selection: list[tuple[str, str, str]] = []   # (element id, "joint"|"link", id)
@@ -79,6 +79,11 @@ class SceneController(QObject):
         self._results: dict[str, SolveResult] = {}
         self._drag_base: Scene | None = None
         self._resolve()
+
+    def _on_clean_changed(self, _clean: bool) -> None:
+        # a bound slot (not a lambda): Qt drops the connection when the controller is destroyed,
+        # so the undo stack's own clean-up at teardown cannot reach a deleted controller
+        self.pathChanged.emit()
 
     # -- reading ----------------------------------------------------------------------------
     @property
