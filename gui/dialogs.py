@@ -2,7 +2,7 @@
 
 Every component that needs a file name, a question or an error message calls a
 :class:`DialogService` handed to it; nothing else in the app opens a modal dialog. Tests pass an
-object with the same methods (see ``tests/gui/fakes.py``) and never patch Qt.
+object with the same methods (see ``tests/gui/app_fakes.py``) and never patch Qt.
 """
 from __future__ import annotations
 

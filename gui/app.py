@@ -1,0 +1,185 @@
+"""Start the desktop app: QApplication set-up, style, the main window, crash recovery, error hook.
+
+``run_app(path)`` is what ``mechsketch`` / ``mechsketch open SCENE`` call. :func:`build` makes the
+whole app without running the event loop (tests and the start-up benchmark use it) and takes
+the dialog service, settings file, recovery folder and canvas components as arguments, so a test
+injects fakes instead of patching Qt. The platform plugin is left to the user (tests set
+``QT_QPA_PLATFORM=offscreen``); with no display at all we say so instead of letting Qt abort.
+"""
+from __future__ import annotations
+
+import os
+import sys
+import time
+import traceback
+from dataclasses import dataclass, field
+from pathlib import Path
+from types import TracebackType
+from typing import Callable
+
+from PySide6.QtCore import Qt
+from PySide6.QtWidgets import QApplication
+
+from mechsketch import resources
+
+from .autosave import INTERVAL_MS, Autosave
+from .controller import SceneController
+from .dialogs import DialogService, QtDialogService
+from .file_ops import FileOps, make_settings
+from .main_window import Components, MainWindow
+
+ExceptHook = Callable[[type[BaseException], BaseException, TracebackType | None], None]
+
+
+def default_components() -> Components:
+    """The real canvas, tools, animation player and scrub bar."""
+    from .animation import AnimationPlayer
+    from .canvas.tools import tool_actions
+    from .canvas.view import CanvasView
+    from .scrubbar import ScrubBar
+
+    return Components(
+        canvas=CanvasView,
+        player=AnimationPlayer,
+        scrubbar=ScrubBar,
+        tool_actions=lambda view, parent: list(tool_actions(view, parent)),
+        snap_action=lambda view, parent: view.snap_action(parent) if hasattr(view, "snap_action") else None,
+        player_actions=lambda player, parent: list(player.actions(parent)) if hasattr(player, "actions") else [],
+    )
+
+
+def qapplication(argv: list[str] | None = None) -> QApplication:
+    """The QApplication (created once), with the app's names and style."""
+    app = QApplication.instance()
+    if app is None:
+        QApplication.setHighDpiScaleFactorRoundingPolicy(Qt.HighDpiScaleFactorRoundingPolicy.PassThrough)
+        app = QApplication(argv if argv is not None else [sys.argv[0]])
+    app.setApplicationName("mechsketch")
+    app.setOrganizationName("mechsketch")
+    app.setApplicationDisplayName("mechsketch")
+    if "fusion" in [s.lower() for s in _styles()]:
+        app.setStyle("Fusion")
+    import pyqtgraph as pg
+
+    pg.setConfigOptions(antialias=True, background="w", foreground="k")
+    return app
+
+
+def _styles() -> list[str]:
+    from PySide6.QtWidgets import QStyleFactory
+
+    return QStyleFactory.keys()
+
+
+@dataclass
+class AppParts:
+    """The running app's pieces (what :func:`build` made)."""
+
+    app: QApplication
+    controller: SceneController
+    dialogs: DialogService
+    file_ops: FileOps
+    autosave: Autosave
+    window: MainWindow
+    started: float = field(default_factory=time.perf_counter)
+
+    def close(self) -> None:
+        """Close the window and stop the timers (tests; a clean exit)."""
+        self.autosave.stop()
+        self.window.close()
+
+
+def build(scene_path: str | os.PathLike | None = None, *, dialogs: DialogService | None = None,
+          settings_path: str | os.PathLike | None = None, state_dir: str | os.PathLike | None = None,
+          components: Components | None = None, autosave_ms: int = INTERVAL_MS,
+          offer_recovery: bool = True) -> AppParts:
+    """Make the app: controller, file operations, autosave, main window; open ``scene_path``
+    (or the default example), then offer a crash-recovery file if one is left. Not shown."""
+    started = time.perf_counter()
+    app = qapplication()
+    controller = SceneController()
+    service = dialogs if dialogs is not None else QtDialogService()
+    file_ops = FileOps(controller, service, make_settings(settings_path))
+    autosave = Autosave(controller, Path(state_dir) if state_dir is not None else None, autosave_ms)
+    window = MainWindow(controller, service, file_ops, autosave,
+                        components if components is not None else default_components())
+    if isinstance(service, QtDialogService):
+        service.parent = window
+    parts = AppParts(app, controller, service, file_ops, autosave, window, started)
+    if scene_path is not None:
+        if not file_ops.open(scene_path, ask=False):
+            controller.message.emit(f"could not open {scene_path}; starting with an empty scene")
+    else:
+        file_ops.open_example(resources.DEFAULT_EXAMPLE, ask=False)
+    if offer_recovery:
+        offer_recovery_files(parts)
+    autosave.start()
+    return parts
+
+
+def offer_recovery_files(parts: AppParts) -> bool:
+    """If a crashed run left a recovery file, ask whether to restore it; True if restored."""
+    pending = parts.autosave.pending()
+    if not pending:
+        return False
+    newest = pending[0]
+    if parts.dialogs.ask_yes_no("Restore unsaved work?",
+                                f"mechsketch did not exit cleanly last time.\n\nRestore {newest.describe()}?\n"
+                                "(No deletes the recovery file.)"):
+        return parts.autosave.restore(newest) is not None
+    newest.discard()
+    return False
+
+
+def install_excepthook(parts: AppParts) -> ExceptHook:
+    """Show unexpected errors in a message box, autosave, and keep running. Returns the old hook."""
+    previous = sys.excepthook
+    busy = {"now": False}
+
+    def hook(exc_type: type[BaseException], exc: BaseException, tb: TracebackType | None) -> None:
+        if issubclass(exc_type, KeyboardInterrupt):
+            previous(exc_type, exc, tb)
+            return
+        text = "".join(traceback.format_exception(exc_type, exc, tb))
+        sys.stderr.write(text)
+        if busy["now"]:  # an error while reporting an error: stderr only
+            return
+        busy["now"] = True
+        try:
+            saved = parts.autosave.save_now()
+            note = " Your unsaved scene was autosaved." if saved else ""
+            parts.controller.message.emit(f"internal error: {exc_type.__name__}: {exc}")
+            parts.dialogs.error("Unexpected error",
+                                f"{exc_type.__name__}: {exc}\n\nmechsketch keeps running and your scene is "
+                                f"still open.{note} Please report this with the details.", text)
+        finally:
+            busy["now"] = False
+
+    sys.excepthook = hook
+    return previous
+
+
+def _no_display() -> bool:
+    """True on Linux/BSD when no display is reachable and the user chose no platform plugin."""
+    if os.environ.get("QT_QPA_PLATFORM") or not sys.platform.startswith(("linux", "freebsd", "openbsd")):
+        return False
+    return not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"))
+
+
+def run_app(scene_path: str | os.PathLike | None = None) -> int:
+    """Run the desktop app on ``scene_path`` (None: the built-in example); returns the exit code."""
+    if _no_display():
+        print("mechsketch: no display found (DISPLAY and WAYLAND_DISPLAY are unset). Run it in a desktop "
+              "session, or set QT_QPA_PLATFORM (e.g. offscreen); the headless commands work anywhere "
+              "(mechsketch --help).", file=sys.stderr)
+        return 1
+    parts = build(scene_path)
+    previous = install_excepthook(parts)
+    try:
+        parts.window.show()
+        parts.controller.message.emit(
+            f"ready in {time.perf_counter() - parts.started:.2f} s")
+        return parts.app.exec()
+    finally:
+        parts.autosave.stop()
+        sys.excepthook = previous
