@@ -184,3 +184,16 @@ def test_discard_on_close(shell):
 def test_fake_dialogs_default_to_cancel():
     d = FakeDialogs()
     assert d.ask_save_changes("x") == "cancel" and d.open_file_name("t") is None
+
+
+def test_qt_bindings_keep_none_alive(qtbot):
+    """Regression: PySide6 6.12.0 on Python 3.11 dropped a reference to None on every void call,
+    and the app died with 'deallocating None' after a few minutes of use (pinned out in pyproject)."""
+    from PySide6.QtWidgets import QLabel
+
+    label = QLabel()
+    qtbot.addWidget(label)
+    before = sys.getrefcount(None)
+    for _ in range(2000):
+        label.setText("x")
+    assert abs(sys.getrefcount(None) - before) < 100

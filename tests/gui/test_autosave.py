@@ -1,0 +1,132 @@
+"""Autosave and crash recovery: the unsaved scene is written, removed when saved, offered back."""
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import textwrap
+
+from mechsketch.core import MoveJoint, load_scene
+from mechsketch.core.io.scene_file import dumps_scene
+from mechsketch.gui.autosave import state_dir
+
+from app_fakes import FakeDialogs, shell  # noqa: F401 - fixture
+
+
+def test_the_timer_writes_the_unsaved_scene_atomically(shell, qtbot, tmp_path):
+    parts = shell(state_dir=tmp_path / "state", autosave_ms=50)
+    auto = parts.autosave
+    assert auto.timer.interval() == 50
+    qtbot.wait(120)
+    assert not auto.scene_file.exists()                  # nothing unsaved: nothing written
+    parts.controller.push(MoveJoint("fourbar", "B", (21.0, 35.0)), "move joint B")
+    with qtbot.waitSignal(auto.saved, timeout=2000):
+        pass
+    assert load_scene(auto.scene_file) == parts.controller.scene
+    meta = json.loads(auto.meta_file.read_text())
+    assert meta["pid"] == os.getpid() and meta["original"] is None
+    assert not list(auto.folder.glob(".*.tmp"))
+
+
+def test_default_interval_is_a_minute(shell):
+    assert shell().autosave.timer.interval() == 60_000
+
+
+def test_saving_removes_the_recovery_file(shell, tmp_path):
+    parts = shell(state_dir=tmp_path / "state")
+    parts.controller.push(MoveJoint("fourbar", "B", (21.0, 35.0)), "move joint B")
+    assert parts.autosave.save_now()
+    assert parts.file_ops.save_as(tmp_path / "s.json")
+    assert not parts.autosave.scene_file.exists() and not parts.autosave.meta_file.exists()
+
+
+def test_undo_back_to_clean_removes_it_too(shell, tmp_path):
+    parts = shell(state_dir=tmp_path / "state")
+    parts.controller.push(MoveJoint("fourbar", "B", (21.0, 35.0)), "move joint B")
+    parts.autosave.save_now()
+    parts.window.actions["undo"].trigger()
+    assert not parts.autosave.scene_file.exists()
+
+
+def test_an_unwritable_state_folder_is_a_message(shell, tmp_path):
+    blocker = tmp_path / "file"
+    blocker.write_text("not a folder")
+    parts = shell(state_dir=blocker / "state")
+    parts.controller.push(MoveJoint("fourbar", "B", (21.0, 35.0)), "move joint B")
+    assert parts.autosave.save_now() is False
+    assert "autosave failed" in parts.window.statusBar().currentMessage()
+
+
+def _leave_recovery(folder, scene, pid=999_999_999, original=None):
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / f"recovery-{pid}.json").write_text(dumps_scene(scene))
+    (folder / f"recovery-{pid}.meta.json").write_text(json.dumps({"pid": pid, "time": 1.7e9,
+                                                                  "original": original}))
+
+
+def test_a_fresh_start_offers_the_recovery_file_back(shell, tmp_path):
+    donor = shell(state_dir=tmp_path / "other")
+    donor.controller.push(MoveJoint("fourbar", "B", (21.0, 35.0)), "move joint B")
+    lost = donor.controller.scene
+    folder = tmp_path / "state"
+    _leave_recovery(folder, lost, original=str(tmp_path / "orig.json"))
+    dialogs = FakeDialogs()
+    dialogs.yes_no.append(True)
+    parts = shell(state_dir=folder, dialogs=dialogs, offer_recovery=True)
+    assert dialogs.questions[0][0] == "Restore unsaved work?" and "orig.json" in dialogs.questions[0][1]
+    assert parts.controller.scene == lost and parts.controller.is_dirty
+    assert "*" in parts.window.windowTitle()
+    assert not (folder / "recovery-999999999.json").exists()   # adopted: now our own file
+    assert load_scene(parts.autosave.scene_file) == lost
+
+
+def test_declining_deletes_the_recovery_file(shell, tmp_path):
+    folder = tmp_path / "state"
+    first = shell(state_dir=tmp_path / "x")
+    _leave_recovery(folder, first.controller.scene)
+    dialogs = FakeDialogs()
+    dialogs.yes_no.append(False)
+    parts = shell(state_dir=folder, dialogs=dialogs, offer_recovery=True)
+    assert not list(folder.glob("recovery-*"))
+    assert not parts.controller.is_dirty
+
+
+def test_files_of_a_running_app_are_not_offered(shell, tmp_path):
+    folder = tmp_path / "state"
+    first = shell(state_dir=tmp_path / "x")
+    _leave_recovery(folder, first.controller.scene, pid=os.getppid())   # alive
+    parts = shell(state_dir=folder, offer_recovery=True)
+    assert not parts.dialogs.questions
+
+
+def test_state_dir_follows_the_environment(monkeypatch, tmp_path):
+    monkeypatch.setenv("MECHSKETCH_STATE_DIR", str(tmp_path / "s"))
+    assert state_dir() == tmp_path / "s"
+    monkeypatch.delenv("MECHSKETCH_STATE_DIR")
+    assert state_dir().name == "mechsketch"
+
+
+CRASH = textwrap.dedent("""
+    import os
+    from mechsketch.core import MoveJoint
+    from mechsketch.gui.app import build
+    from app_fakes import FakeDialogs, stand_in_components
+    parts = build(dialogs=FakeDialogs(), components=stand_in_components(), offer_recovery=False)
+    parts.controller.push(MoveJoint("fourbar", "B", (23.0, 31.0)), "move joint B")
+    assert parts.autosave.save_now()
+    os._exit(3)   # a crash: no clean exit, the recovery file stays
+""")
+
+
+def test_a_real_crash_leaves_a_file_the_next_start_restores(shell, tmp_path):
+    env = dict(os.environ, MECHSKETCH_STATE_DIR=str(tmp_path / "state"), QT_QPA_PLATFORM="offscreen",
+               PYTHONPATH=os.pathsep.join([os.path.dirname(__file__), os.environ.get("PYTHONPATH", "")]))
+    run = subprocess.run([sys.executable, "-c", CRASH], env=env, capture_output=True, text=True, timeout=60)
+    assert run.returncode == 3, run.stderr
+    assert len(list((tmp_path / "state").glob("recovery-*.json"))) == 2
+    dialogs = FakeDialogs()
+    dialogs.yes_no.append(True)
+    parts = shell(state_dir=tmp_path / "state", dialogs=dialogs, offer_recovery=True)
+    assert parts.controller.scene.element("fourbar").joint("B").at == (23.0, 31.0)
+    assert parts.controller.is_dirty
