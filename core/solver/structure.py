@@ -112,11 +112,11 @@ def decompose(linkage: Linkage) -> list[Group]:
             oi = outer(li)
             if len(oi) != 1:
                 continue
-            for jid in links[li].joints:
-                others = members[jid] - {li}
-                if others & known or len(others) != 1:
-                    continue
-                lj = next(iter(others))
+            # the inner joint may carry further unknown links (a compound hinge): they hang on
+            # the dyad and are solved after it, so try each unknown partner in turn
+            pairs = [(jid, lj) for jid in links[li].joints if not (members[jid] - {li}) & known
+                     for lj in sorted(members[jid] - {li}, key=order.index)]
+            for jid, lj in pairs:
                 oj = outer(lj)
                 if len(oj) != 1 or oj[0][0] == jid:
                     continue
