@@ -1,0 +1,500 @@
+"""Graphics items of the canvas: a few items per linkage, each painting from arrays it is given.
+
+- :class:`LinkageItem` - links (bars, ternary plates), joints, ground symbols, sliders and their
+  guides, id labels, hover and selection highlight, and a note when the linkage is incomplete;
+- :class:`TraceItem` - traced joint paths (coupler curves) and the driver's circle with its
+  infeasible arcs in red, as QPainterPaths (NaN breaks a path);
+- :class:`DeadPointItem` - dead points: the toggle pose of the group as a dashed ghost and a label;
+- :class:`OverlayItem` - what the active tool will create (ghost lines, points, labels, rubber band).
+
+World units are millimetres with y up (the view flips y). Sizes that should not scale with the
+zoom (pen widths, joint radii, text) are given in screen pixels and converted with the painter's
+current scale, so nothing here depends on the view except :meth:`set_px` for bounding boxes.
+"""
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass, field
+
+import numpy as np
+from PySide6.QtCore import QPointF, QRectF, Qt
+from PySide6.QtGui import QBrush, QColor, QFont, QPainter, QPainterPath, QPen, QPolygonF
+from PySide6.QtWidgets import QGraphicsItem, QStyleOptionGraphicsItem, QWidget
+from pyqtgraph import arrayToQPath
+
+from mechsketch.core.model.linkage import JointKind
+
+from .events import XY, Hit
+from .pose import ElementPose, SolutionArrays, link_outline, slider_roles
+
+INK = QColor("#2b2f36")
+MUTED = QColor("#6b7280")
+LINK_FILL = QColor("#cfdcee")
+LINK_EDGE = QColor("#3d5f8f")
+DRIVER_FILL = QColor("#f5d9b8")
+DRIVER_EDGE = QColor("#b3661a")
+HOVER = QColor("#1e88e5")
+SELECT = QColor("#ff8f00")
+TRACE = QColor("#8e44ad")
+BAD = QColor("#d62728")
+GHOST = QColor("#1e88e5")
+JOINT_R = 4.5          # px
+LABEL_PX = 11          # px
+
+
+def _pen(color: QColor, width: float, style: Qt.PenStyle = Qt.PenStyle.SolidLine,
+         cap: Qt.PenCapStyle = Qt.PenCapStyle.RoundCap) -> QPen:
+    pen = QPen(color, width, style, cap, Qt.PenJoinStyle.RoundJoin)
+    pen.setCosmetic(True)
+    return pen
+
+
+def _px(painter: QPainter) -> float:
+    """Millimetres per screen pixel for this painter."""
+    s = abs(painter.worldTransform().m11()) or 1.0
+    return 1.0 / s
+
+
+def _text(painter: QPainter, at: XY, text: str, px: float, dx: float = 0.0, dy: float = 0.0,
+          color: QColor = INK, size: int = LABEL_PX, bold: bool = False) -> None:
+    """Draw ``text`` upright at world point ``at`` offset by (dx, dy) screen pixels (y up)."""
+    painter.save()
+    painter.translate(at[0], at[1])
+    painter.scale(px, -px)
+    font = QFont(painter.font())
+    font.setPixelSize(size)
+    font.setBold(bold)
+    painter.setFont(font)
+    painter.setPen(color)
+    painter.drawText(QPointF(dx, -dy), text)
+    painter.restore()
+
+
+def short_error(error: str) -> str:
+    """A one-line, polite summary of a solver error for the canvas."""
+    m = re.search(r"mobility (-?\d+)", error)
+    if m:
+        return f"incomplete: mobility {m.group(1)} (a driven linkage needs 1)"
+    if "no driver" in error:
+        return "incomplete: no driver yet - add a crank (C)"
+    first = error.split(". ")[0].split("\n")[0]
+    return first if len(first) <= 90 else first[:87] + "..."
+
+
+class _Item(QGraphicsItem):
+    """Base: a cached bounding rect padded by a margin in screen pixels."""
+
+    PAD_PX = 40.0
+
+    def __init__(self) -> None:
+        super().__init__()
+        self._px = 0.5
+        self._core = QRectF()
+        self._rect = QRectF()
+
+    def set_px(self, px: float) -> None:
+        """Tell the item the current millimetres per pixel (for its bounding box only)."""
+        if px != self._px:
+            self._px = px
+            self._bounds(self._core)
+
+    def _bounds(self, core: QRectF) -> None:
+        pad = self.PAD_PX * self._px
+        rect = core.adjusted(-pad, -pad, pad, pad) if not core.isNull() else QRectF()
+        if rect != self._rect:
+            self.prepareGeometryChange()
+            self._rect = rect
+        self._core = core
+        self.update()
+
+    def boundingRect(self) -> QRectF:
+        return self._rect
+
+
+def _rect_of(points) -> QRectF:
+    pts = [p for p in points if math.isfinite(p[0]) and math.isfinite(p[1])]
+    if not pts:
+        return QRectF()
+    xs, ys = [p[0] for p in pts], [p[1] for p in pts]
+    return QRectF(min(xs), min(ys), max(max(xs) - min(xs), 1e-6), max(max(ys) - min(ys), 1e-6))
+
+
+class LinkageItem(_Item):
+    """One linkage at one pose: links, joints, ground, sliders, labels, highlight."""
+
+    PAD_PX = 60.0
+
+    def __init__(self, pose: ElementPose) -> None:
+        super().__init__()
+        self.pose = pose
+        self.hover: Hit | None = None
+        self.selected: set[tuple[str, str]] = set()   # (kind, id) of this element
+        self.show_labels = True
+        self.setZValue(10)
+        self.set_pose(pose)
+
+    def set_pose(self, pose: ElementPose) -> None:
+        self.pose = pose
+        pts = list(pose.at.values()) + [e for g in pose.guide.values() for e in g]
+        self._bounds(_rect_of(pts))
+
+    def set_highlight(self, hover: Hit | None, selected: set[tuple[str, str]]) -> None:
+        if hover != self.hover or selected != self.selected:
+            self.hover, self.selected = hover, set(selected)
+            self.update()
+
+    def _state(self, kind: str, id_: str) -> QColor | None:
+        if (kind, id_) in self.selected:
+            return SELECT
+        h = self.hover
+        if h is not None and h.element == self.pose.element and h.kind == kind and h.id == id_:
+            return HOVER
+        return None
+
+    # -- painting -------------------------------------------------------------------------
+    def paint(self, painter: QPainter, option: QStyleOptionGraphicsItem, widget: QWidget | None = None) -> None:
+        px = _px(painter)
+        painter.setRenderHint(QPainter.RenderHint.Antialiasing, True)
+        lk = self.pose.linkage
+        for jid in self.pose.guide:
+            self._guide(painter, jid, px)
+        for link in lk.links:
+            if link.id != lk.ground:
+                self._link(painter, link.id, px)
+        grounded = set(lk.link(lk.ground).joints) if lk.ground in lk.link_ids else set()
+        for j in lk.joints:
+            if j.id in grounded and j.kind is JointKind.R:
+                self._ground_symbol(painter, self.pose.at[j.id], px)
+        for j in lk.joints:
+            if j.kind is JointKind.P:
+                self._block(painter, j.id, px)
+        for j in lk.joints:
+            if j.kind is JointKind.R:
+                self._joint(painter, j.id, px)
+        if self.show_labels:
+            self._labels(painter, px)
+        if self.pose.error:
+            self._badge(painter, px)
+
+    def _link(self, painter: QPainter, link_id: str, px: float) -> None:
+        lk = self.pose.linkage
+        poly = link_outline(self.pose, link_id)
+        if len(poly) < 2:
+            return
+        driver = link_id == lk.driver.link
+        fill, edge = (DRIVER_FILL, DRIVER_EDGE) if driver else (LINK_FILL, LINK_EDGE)
+        path = QPainterPath()
+        path.moveTo(poly[0].real, poly[0].imag)
+        for z in poly[1:]:
+            path.lineTo(z.real, z.imag)
+        if len(poly) > 2:
+            path.closeSubpath()
+        state = self._state("link", link_id)
+        painter.setBrush(Qt.BrushStyle.NoBrush)
+        if state is not None:
+            halo = QColor(state)
+            halo.setAlpha(110)
+            painter.setPen(_pen(halo, 19))
+            painter.drawPath(path)
+        painter.setPen(_pen(edge, 12))
+        painter.drawPath(path)
+        painter.setPen(_pen(fill, 9))
+        if len(poly) > 2:
+            painter.setBrush(QBrush(fill))
+        painter.drawPath(path)
+        painter.setBrush(Qt.BrushStyle.NoBrush)
+
+    def _joint(self, painter: QPainter, jid: str, px: float) -> None:
+        x, y = self.pose.at[jid]
+        state = self._state("joint", jid)
+        r = JOINT_R * px
+        if state is not None:
+            painter.setPen(_pen(state, 2.5))
+            painter.setBrush(Qt.BrushStyle.NoBrush)
+            painter.drawEllipse(QPointF(x, y), r + 3.5 * px, r + 3.5 * px)
+        painter.setPen(_pen(INK, 1.6))
+        painter.setBrush(QBrush(QColor("white")))
+        painter.drawEllipse(QPointF(x, y), r, r)
+
+    def _ground_symbol(self, painter: QPainter, at: XY, px: float) -> None:
+        x, y = at
+        tri = QPolygonF([QPointF(x, y), QPointF(x - 8 * px, y - 13 * px), QPointF(x + 8 * px, y - 13 * px)])
+        painter.setPen(_pen(INK, 1.4))
+        painter.setBrush(QBrush(QColor("#e7e9ee")))
+        painter.drawPolygon(tri)
+        base = y - 13 * px
+        painter.drawLine(QPointF(x - 13 * px, base), QPointF(x + 13 * px, base))
+        painter.setPen(_pen(MUTED, 1.0))
+        for k in range(-3, 4):
+            x0 = x + k * 4 * px
+            painter.drawLine(QPointF(x0 + 2 * px, base), QPointF(x0 - 2 * px, base - 5 * px))
+
+    def _guide(self, painter: QPainter, jid: str, px: float) -> None:
+        (x1, y1), (x2, y2) = self.pose.guide[jid]
+        if not all(math.isfinite(v) for v in (x1, y1, x2, y2)):
+            return
+        guide, _ = slider_roles(self.pose.linkage, jid)
+        d = complex(x2 - x1, y2 - y1)
+        if abs(d) < 1e-12:
+            return
+        u = d / abs(d)
+        n = u * 1j
+        a, b = complex(x1, y1), complex(x2, y2)
+        if guide == self.pose.linkage.ground:
+            off = n * (-9 * px)
+            painter.setPen(_pen(INK, 1.4, cap=Qt.PenCapStyle.FlatCap))
+            painter.drawLine(QPointF((a + off).real, (a + off).imag), QPointF((b + off).real, (b + off).imag))
+            painter.setPen(_pen(MUTED, 1.0))
+            steps = int(abs(d) / (6 * px))
+            for k in range(min(steps, 400) + 1):
+                p = a + off + u * (k * 6 * px)
+                q = p - n * (5 * px) - u * (4 * px)
+                painter.drawLine(QPointF(p.real, p.imag), QPointF(q.real, q.imag))
+        else:
+            painter.setPen(_pen(LINK_EDGE, 1.4, cap=Qt.PenCapStyle.FlatCap))
+            for s in (-1, 1):
+                off = n * (s * 8 * px)
+                painter.drawLine(QPointF((a + off).real, (a + off).imag), QPointF((b + off).real, (b + off).imag))
+            painter.setPen(_pen(LINK_EDGE, 1.0, Qt.PenStyle.DashDotLine))
+            painter.drawLine(QPointF(a.real, a.imag), QPointF(b.real, b.imag))
+
+    def _block(self, painter: QPainter, jid: str, px: float) -> None:
+        x, y = self.pose.at[jid]
+        ang = self.pose.axis.get(jid, 0.0)
+        state = self._state("joint", jid)
+        painter.save()
+        painter.translate(x, y)
+        painter.rotate(ang)
+        w, h = 15 * px, 8 * px
+        if state is not None:
+            painter.setPen(_pen(state, 2.5))
+            painter.setBrush(Qt.BrushStyle.NoBrush)
+            painter.drawRect(QRectF(-w - 3 * px, -h - 3 * px, 2 * w + 6 * px, 2 * h + 6 * px))
+        painter.setPen(_pen(INK, 1.4))
+        painter.setBrush(QBrush(QColor("#dfe6d2")))
+        painter.drawRect(QRectF(-w, -h, 2 * w, 2 * h))
+        painter.restore()
+
+    def _labels(self, painter: QPainter, px: float) -> None:
+        lk = self.pose.linkage
+        seen: dict[tuple[int, int], int] = {}
+        for j in lk.joints:
+            x, y = self.pose.at[j.id]
+            key = (round(x / (4 * px)), round(y / (4 * px)))
+            stack = seen.get(key, 0)
+            seen[key] = stack + 1
+            dx = 8.0 if j.kind is JointKind.R else 18.0
+            _text(painter, (x, y), j.id, px, dx, 7.0 + 12.0 * stack, INK, LABEL_PX, True)
+        for link in lk.links:
+            if link.id == lk.ground:
+                continue
+            poly = link_outline(self.pose, link.id)
+            if len(poly) < 2:
+                continue
+            c = sum(poly) / len(poly)
+            dx, dy = 6.0, -14.0
+            if len(poly) == 2 and abs(poly[1] - poly[0]) > 0:
+                n = (poly[1] - poly[0]) / abs(poly[1] - poly[0]) * 1j
+                n = n if n.imag >= 0 else -n
+                dx, dy = 13.0 * n.real - 10.0, 13.0 * n.imag + 4.0
+            _text(painter, (c.real, c.imag), link.id, px, dx, dy, MUTED, LABEL_PX - 1)
+
+    def _badge(self, painter: QPainter, px: float) -> None:
+        pts = list(self.pose.at.values())
+        if not pts:
+            return
+        x = min(p[0] for p in pts)
+        y = min(p[1] for p in pts)
+        _text(painter, (x, y), f"{self.pose.element}: {short_error(self.pose.error or '')}", px,
+              -8.0, -36.0, BAD, LABEL_PX)
+
+
+def _path(xy: np.ndarray, close: bool = False) -> QPainterPath:
+    """A QPainterPath through the (N, 2) points; NaN rows break it."""
+    if close and np.isfinite(xy).all() and len(xy) > 2:
+        xy = np.vstack([xy, xy[:1]])
+    return arrayToQPath(np.ascontiguousarray(xy[:, 0]), np.ascontiguousarray(xy[:, 1]), connect="finite")
+
+
+class TraceItem(_Item):
+    """Traced joint paths and the driver circle (red where the linkage cannot be assembled)."""
+
+    PAD_PX = 6.0
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.traces: list[QPainterPath] = []
+        self.circle_ok = QPainterPath()
+        self.circle_bad = QPainterPath()
+        self.setZValue(2)
+
+    def set_data(self, pose: ElementPose, traced: list[str]) -> None:
+        """Paths of ``traced`` joints over the cycle of ``pose.arrays`` (nothing if unsolved)."""
+        arrays = pose.arrays
+        self.traces, self.circle_ok, self.circle_bad = [], QPainterPath(), QPainterPath()
+        core = QRectF()
+        if arrays is not None:
+            for jid in traced:
+                if jid in arrays.pos:
+                    p = _path(arrays.pos[jid], close=True)
+                    self.traces.append(p)
+                    core = core.united(p.boundingRect())
+            self._circle(pose, arrays)
+            core = core.united(self.circle_ok.boundingRect()).united(self.circle_bad.boundingRect())
+        self._bounds(core)
+
+    def _circle(self, pose: ElementPose, arrays: SolutionArrays) -> None:
+        lk = pose.linkage
+        drv = lk.driver
+        try:
+            tip = next(j for j in lk.link(drv.link).joints if j != drv.pivot)
+            c = complex(*lk.joint(drv.pivot).at)
+            r = abs(complex(*lk.joint(tip).at) - c)
+        except (KeyError, StopIteration):
+            return
+        th = arrays.solution.input
+        xy = np.column_stack([c.real + r * np.cos(th), c.imag + r * np.sin(th)])
+        valid = arrays.valid
+        ok = np.where(valid[:, None], xy, np.nan)
+        self.circle_ok = _path(ok, close=bool(valid.all()))
+        if not valid.all():
+            bad = ~valid
+            grown = bad | np.roll(bad, 1) | np.roll(bad, -1)
+            self.circle_bad = _path(np.where(grown[:, None], xy, np.nan))
+
+    def paint(self, painter: QPainter, option: QStyleOptionGraphicsItem, widget: QWidget | None = None) -> None:
+        painter.setRenderHint(QPainter.RenderHint.Antialiasing, True)
+        painter.setBrush(Qt.BrushStyle.NoBrush)
+        painter.setPen(_pen(QColor("#9aa3b2"), 1.0, Qt.PenStyle.DashLine))
+        painter.drawPath(self.circle_ok)
+        painter.setPen(_pen(BAD, 3.0, cap=Qt.PenCapStyle.FlatCap))
+        painter.drawPath(self.circle_bad)
+        painter.setPen(_pen(TRACE, 1.6))
+        for p in self.traces:
+            painter.drawPath(p)
+
+
+@dataclass
+class DeadMark:
+    """A dead point to draw: ghost polyline (mm), marker point, label."""
+
+    ghost: list[XY]
+    at: XY
+    label: str
+    limit: bool
+
+
+class DeadPointItem(_Item):
+    """Dead points and assembly limits of one linkage, drawn at their poses as red ghosts."""
+
+    PAD_PX = 80.0
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.marks: list[DeadMark] = []
+        self.setZValue(5)
+
+    def set_data(self, pose: ElementPose, result) -> None:
+        """Marks from ``result.diagnostics`` at the nearest valid samples of ``pose.arrays``."""
+        self.marks = []
+        arrays = pose.arrays
+        diag = getattr(result, "diagnostics", None)
+        if arrays is not None and diag is not None:
+            groups = {g.name: g for g in arrays.solution.groups}
+            lk = pose.linkage
+            tip = next((j for j in lk.link(lk.driver.link).joints if j != lk.driver.pivot), None)
+            for d, k in zip(diag.dead_points, arrays.dead):
+                g = groups.get(d.group)
+                if g is None or not arrays.valid[k]:
+                    continue
+                pts = [tuple(arrays.pos[j][k]) for j in (g.outer_i, g.inner, g.outer_j)]
+                if tip is not None:
+                    pts = [tuple(arrays.pos[lk.driver.pivot][k]), tuple(arrays.pos[tip][k]), None] + pts
+                deg = math.degrees(d.input)
+                what = "limit" if d.kind == "limit" else "dead point"
+                self.marks.append(DeadMark(pts, tuple(arrays.pos[g.inner][k]), f"{what} {deg:.1f}°",
+                                           d.kind == "limit"))
+        self._bounds(_rect_of([p for m in self.marks for p in m.ghost if p is not None]))
+
+    def paint(self, painter: QPainter, option: QStyleOptionGraphicsItem, widget: QWidget | None = None) -> None:
+        px = _px(painter)
+        painter.setRenderHint(QPainter.RenderHint.Antialiasing, True)
+        painter.setBrush(Qt.BrushStyle.NoBrush)
+        ghost = QColor(BAD)
+        ghost.setAlpha(150)
+        for m in self.marks:
+            painter.setPen(_pen(ghost, 1.4, Qt.PenStyle.DashLine))
+            prev = None
+            for p in m.ghost:
+                if p is not None and prev is not None:
+                    painter.drawLine(QPointF(*prev), QPointF(*p))
+                prev = p
+            painter.setPen(_pen(BAD, 2.0))
+            x, y = m.at
+            r = 6 * px
+            painter.drawEllipse(QPointF(x, y), r, r)
+            painter.drawLine(QPointF(x - r, y - r), QPointF(x + r, y + r))
+            painter.drawLine(QPointF(x - r, y + r), QPointF(x + r, y - r))
+            _text(painter, m.at, m.label, px, 10.0, -18.0, BAD, LABEL_PX - 1)
+
+
+@dataclass
+class Overlay:
+    """A tool's preview, in world mm: what it will create, and why it cannot (``bad``)."""
+
+    lines: list[tuple[XY, XY]] = field(default_factory=list)
+    points: list[XY] = field(default_factory=list)
+    circles: list[tuple[XY, float]] = field(default_factory=list)
+    labels: list[tuple[XY, str]] = field(default_factory=list)
+    rect: tuple[XY, XY] | None = None
+    bad: bool = False
+
+    def is_empty(self) -> bool:
+        return not (self.lines or self.points or self.circles or self.labels or self.rect)
+
+
+class OverlayItem(_Item):
+    """Paints the active tool's :class:`Overlay` above everything else."""
+
+    PAD_PX = 160.0
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.overlay = Overlay()
+        self.setZValue(100)
+
+    def set_overlay(self, overlay: Overlay) -> None:
+        self.overlay = overlay
+        pts = [p for ln in overlay.lines for p in ln] + list(overlay.points) + [p for p, _ in overlay.labels]
+        pts += [(c[0] + s * r, c[1] + s * r) for c, r in overlay.circles for s in (-1, 1)]
+        if overlay.rect:
+            pts += list(overlay.rect)
+        self._bounds(_rect_of(pts))
+
+    def paint(self, painter: QPainter, option: QStyleOptionGraphicsItem, widget: QWidget | None = None) -> None:
+        px = _px(painter)
+        ov = self.overlay
+        color = BAD if ov.bad else GHOST
+        painter.setRenderHint(QPainter.RenderHint.Antialiasing, True)
+        painter.setBrush(Qt.BrushStyle.NoBrush)
+        if ov.rect:
+            (x1, y1), (x2, y2) = ov.rect
+            fill = QColor(GHOST)
+            fill.setAlpha(30)
+            painter.setBrush(QBrush(fill))
+            painter.setPen(_pen(GHOST, 1.0, Qt.PenStyle.DashLine))
+            painter.drawRect(QRectF(QPointF(x1, y1), QPointF(x2, y2)).normalized())
+            painter.setBrush(Qt.BrushStyle.NoBrush)
+        painter.setPen(_pen(color, 1.0, Qt.PenStyle.DotLine))
+        for c, r in ov.circles:
+            painter.drawEllipse(QPointF(*c), r, r)
+        painter.setPen(_pen(color, 2.0, Qt.PenStyle.DashLine))
+        for a, b in ov.lines:
+            painter.drawLine(QPointF(*a), QPointF(*b))
+        painter.setPen(_pen(color, 1.6))
+        painter.setBrush(QBrush(QColor("white")))
+        for p in ov.points:
+            painter.drawEllipse(QPointF(*p), JOINT_R * px, JOINT_R * px)
+        for p, text in ov.labels:
+            _text(painter, p, text, px, 10.0, 10.0, color, LABEL_PX)

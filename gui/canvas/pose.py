@@ -1,0 +1,349 @@
+"""What the canvas shows and picks: each linkage at the current frame, read from precomputed arrays.
+
+Qt-free helpers shared by the view, the items, the tools and the animation player:
+
+- :class:`SolutionArrays` - joint positions, slider axes and guide segments of one solution,
+  extracted once per solve (arrays of shape (N, 2) mm or (N,) deg; NaN where not assemblable);
+- :class:`PoseCache` / :class:`ElementPose` - a linkage at one sample, or at its drawn pose when it
+  has no solution (a linkage still being drawn) or the sample cannot be assembled;
+- :func:`pick` - the joint or link under a world point;
+- :func:`rebase` - the same linkage drawn at another sample (editing at an animation frame);
+- frame walking (:func:`nearest_valid`, :func:`walk_to`) through valid samples only, so neither
+  the animation nor a crank drag ever jumps across an infeasible gap.
+
+Nothing here calls the solver.
+"""
+from __future__ import annotations
+
+import cmath
+import math
+from dataclasses import dataclass, field, replace
+from typing import Iterable
+
+import numpy as np
+
+from mechsketch.core.model.linkage import Joint, JointKind, Linkage
+from mechsketch.core.solver.plan import Solution
+
+from .events import XY, Hit
+
+#: the guide of a slider is drawn this much beyond the block's stroke (fraction of the stroke, mm)
+GUIDE_MARGIN = (0.15, 8.0)
+
+
+def slider_roles(linkage: Linkage, joint_id: str) -> tuple[str, str]:
+    """``(guide link, block link)`` of the P joint ``joint_id``.
+
+    The frame is always the guide; otherwise the block is the carrier whose pin (another joint)
+    sits closest to the P joint in the drawn pose.
+    """
+    carriers = linkage.links_of(joint_id)
+    if len(carriers) != 2:
+        return (carriers[0] if carriers else "", "")
+    a, b = carriers
+    if linkage.ground in carriers:
+        return (linkage.ground, b if a == linkage.ground else a)
+    at = complex(*linkage.joint(joint_id).at)
+
+    def pin_gap(link_id: str) -> float:
+        others = [complex(*linkage.joint(j).at) for j in linkage.link(link_id).joints if j != joint_id]
+        return min((abs(p - at) for p in others), default=math.inf)
+
+    return (b, a) if pin_gap(a) <= pin_gap(b) else (a, b)
+
+
+class SolutionArrays:
+    """Everything the canvas draws from one solution, extracted once (no solving).
+
+    ``pos[j]`` (N, 2) mm; ``axis[j]`` (N,) deg for P joints; ``guide[j]`` two (N, 2) arrays, the
+    ends of the guide segment of P joint ``j``; ``valid`` (N,) bool; ``dead`` sample indices of
+    the dead points (nearest valid sample).
+    """
+
+    def __init__(self, linkage: Linkage, sol: Solution, dead_inputs: Iterable[float] = ()) -> None:
+        self.solution = sol
+        self.n = len(sol)
+        self.valid = np.asarray(sol.valid, dtype=bool)
+        self.pos: dict[str, np.ndarray] = {j.id: sol.position(j.id) for j in linkage.joints}
+        self.axis: dict[str, np.ndarray] = {}
+        self.guide: dict[str, tuple[np.ndarray, np.ndarray]] = {}
+        for j in linkage.joints:
+            if j.kind is JointKind.P:
+                self._slider(linkage, sol, j)
+        self.dead = [self.sample_of(x) for x in dead_inputs]
+
+    def _slider(self, linkage: Linkage, sol: Solution, j: Joint) -> None:
+        guide, block = slider_roles(linkage, j.id)
+        rot = sol.rotation(sol.plan.reporter[j.id])
+        self.axis[j.id] = (j.axis_deg or 0.0) + np.degrees(rot)
+        if not guide or not block:
+            return
+        u0 = cmath.exp(1j * math.radians(j.axis_deg or 0.0))
+        with np.errstate(invalid="ignore"):
+            d = sol.point(block, j.at) - sol.point(guide, j.at)
+            ug = sol.rotation(guide)
+            s = d[:, 0] * np.cos(ug) * u0.real - d[:, 0] * np.sin(ug) * u0.imag
+            s = s + d[:, 1] * (np.sin(ug) * u0.real + np.cos(ug) * u0.imag)
+        fin = s[np.isfinite(s)]
+        lo, hi = (float(fin.min()), float(fin.max())) if fin.size else (0.0, 0.0)
+        margin = max(GUIDE_MARGIN[0] * (hi - lo), GUIDE_MARGIN[1])
+        p0 = complex(*j.at)
+        ends = [p0 + u0 * (lo - margin), p0 + u0 * (hi + margin)]
+        self.guide[j.id] = tuple(sol.point(guide, (e.real, e.imag)) for e in ends)  # type: ignore[assignment]
+
+    def sample_of(self, x: float) -> int:
+        """The valid sample nearest to driver input ``x`` (rad, the sweep's unwrapped convention)."""
+        inp = self.solution.input
+        step = float(inp[1] - inp[0]) if self.n > 1 else 1.0
+        k = int(round((x - float(inp[0])) / step)) % self.n
+        near = nearest_valid(self.valid, k)
+        return k if near is None else near
+
+    def extent(self) -> tuple[float, float, float, float] | None:
+        """(xmin, ymin, xmax, ymax) of every joint over the whole cycle, mm."""
+        pts = [p for p in self.pos.values()] + [e for g in self.guide.values() for e in g]
+        if not pts:
+            return None
+        allp = np.concatenate(pts)
+        allp = allp[np.isfinite(allp).all(axis=1)]
+        if not allp.size:
+            return None
+        return (float(allp[:, 0].min()), float(allp[:, 1].min()), float(allp[:, 0].max()), float(allp[:, 1].max()))
+
+
+@dataclass
+class ElementPose:
+    """One linkage as the canvas shows it: at sample ``index``, or drawn (``index`` None)."""
+
+    linkage: Linkage
+    at: dict[str, XY]
+    axis: dict[str, float] = field(default_factory=dict)          # P joint -> axis, deg
+    guide: dict[str, tuple[XY, XY]] = field(default_factory=dict)  # P joint -> guide segment ends
+    index: int | None = None
+    arrays: SolutionArrays | None = None
+    error: str | None = None
+
+    @property
+    def element(self) -> str:
+        return self.linkage.id
+
+
+def drawn_pose(linkage: Linkage, error: str | None = None) -> ElementPose:
+    """The linkage at its drawn positions (guides a short segment through each P joint)."""
+    at = {j.id: (float(j.at[0]), float(j.at[1])) for j in linkage.joints}
+    axis = {j.id: float(j.axis_deg or 0.0) for j in linkage.joints if j.kind is JointKind.P}
+    guide = {}
+    for jid, a in axis.items():
+        u = cmath.exp(1j * math.radians(a)) * 30.0
+        p = complex(*at[jid])
+        guide[jid] = ((p - u).real, (p - u).imag), ((p + u).real, (p + u).imag)
+    return ElementPose(linkage, at, axis, guide, None, None, error)
+
+
+def sample_pose(arrays: SolutionArrays, linkage: Linkage, k: int) -> ElementPose | None:
+    """The linkage at sample ``k`` of its solution, or None if that sample is not assemblable."""
+    if not (0 <= k < arrays.n) or not arrays.valid[k]:
+        return None
+    at = {j: (float(p[k, 0]), float(p[k, 1])) for j, p in arrays.pos.items()}
+    axis = {j: float(a[k]) for j, a in arrays.axis.items()}
+    guide = {j: ((float(a[k, 0]), float(a[k, 1])), (float(b[k, 0]), float(b[k, 1])))
+             for j, (a, b) in arrays.guide.items()}
+    return ElementPose(linkage, at, axis, guide, k, arrays, None)
+
+
+def map_frame(frame: int, n_frames: int, n: int) -> int:
+    """The sample of a solution with ``n`` samples shown at global frame ``frame`` of ``n_frames``."""
+    if n_frames <= 0 or n == n_frames:
+        return frame % max(n, 1)
+    return int(round(frame * n / n_frames)) % n
+
+
+class PoseCache:
+    """Extracts :class:`SolutionArrays` once per solution and hands out poses at a frame."""
+
+    def __init__(self) -> None:
+        self._arrays: dict[str, SolutionArrays] = {}
+
+    def arrays(self, linkage: Linkage, result) -> SolutionArrays | None:
+        """Arrays of ``result.solution`` (``result`` a controller SolveResult), cached by identity."""
+        if result is None or result.solution is None:
+            self._arrays.pop(linkage.id, None)
+            return None
+        cached = self._arrays.get(linkage.id)
+        if cached is None or cached.solution is not result.solution:
+            dead = [d.input for d in result.diagnostics.dead_points] if result.diagnostics else []
+            cached = SolutionArrays(linkage, result.solution, dead)
+            self._arrays[linkage.id] = cached
+        return cached
+
+    def poses(self, controller, frame: int | None = None) -> list[ElementPose]:
+        """Every linkage of ``controller.scene`` at ``frame`` (default ``controller.frame``)."""
+        frame = controller.frame if frame is None else frame
+        total = controller.sample_count()
+        out = []
+        live = set()
+        for el in controller.linkages():
+            live.add(el.id)
+            res = controller.result(el.id)
+            arrays = self.arrays(el, res)
+            pose = None
+            if arrays is not None:
+                pose = sample_pose(arrays, el, map_frame(frame, total, arrays.n))
+            if pose is None:
+                pose = drawn_pose(el, res.error if res is not None else None)
+                pose.arrays = arrays
+            out.append(pose)
+        for gone in set(self._arrays) - live:
+            del self._arrays[gone]
+        return out
+
+
+# -- picking ---------------------------------------------------------------------------------
+
+def _seg_dist(p: complex, a: complex, b: complex) -> float:
+    d = b - a
+    if abs(d) < 1e-12:
+        return abs(p - a)
+    t = max(0.0, min(1.0, ((p - a) * d.conjugate()).real / abs(d) ** 2))
+    return abs(p - (a + t * d))
+
+
+def _inside(p: complex, poly: list[complex]) -> bool:
+    inside = False
+    for k in range(len(poly)):
+        a, b = poly[k], poly[k - 1]
+        if (a.imag > p.imag) != (b.imag > p.imag):
+            x = a.real + (p.imag - a.imag) * (b.real - a.real) / (b.imag - a.imag)
+            if x > p.real:
+                inside = not inside
+    return inside
+
+
+def link_outline(pose: ElementPose, link_id: str) -> list[complex]:
+    """Displayed corner points of a link, in drawing order (convex hull for three or more)."""
+    pts = [complex(*pose.at[j]) for j in pose.linkage.link(link_id).joints if j in pose.at]
+    uniq: list[complex] = []
+    for p in pts:
+        if all(abs(p - q) > 1e-9 for q in uniq):
+            uniq.append(p)
+    if len(uniq) <= 2:
+        return uniq
+    c = sum(uniq) / len(uniq)
+    return sorted(uniq, key=lambda z: cmath.phase(z - c))
+
+
+def pick(poses: Iterable[ElementPose], pos: XY, tol: float) -> Hit | None:
+    """The joint (preferred) or moving link within ``tol`` mm of ``pos``, nearest first.
+
+    Where joints coincide (a slider's pin and its P joint), the revolute joint wins.
+    """
+    p = complex(*pos)
+    best: tuple[float, Hit] | None = None
+    for pose in poses:
+        for j in pose.linkage.joints:
+            q = pose.at.get(j.id)
+            if q is None:
+                continue
+            d = abs(p - complex(*q)) + (1e-6 * tol if j.kind is JointKind.P else 0.0)
+            if d <= tol and (best is None or d < best[0]):
+                best = (d, Hit(pose.element, "joint", j.id))
+    if best is not None:
+        return best[1]
+    for pose in poses:
+        for lk in pose.linkage.links:
+            if lk.id == pose.linkage.ground:
+                continue
+            poly = link_outline(pose, lk.id)
+            if len(poly) < 2:
+                continue
+            d = min(_seg_dist(p, poly[k - 1], poly[k]) for k in range(1 if len(poly) == 2 else 0, len(poly)))
+            if len(poly) > 2 and _inside(p, poly):
+                d = 0.0
+            if d <= tol and (best is None or d < best[0]):
+                best = (d, Hit(pose.element, "link", lk.id))
+    return best[1] if best else None
+
+
+# -- editing at a frame ---------------------------------------------------------------------
+
+def rebase(linkage: Linkage, arrays: SolutionArrays, k: int) -> Linkage:
+    """The same mechanism drawn at sample ``k``: every joint at its position there, slider axes
+    turned with their links. Lengths, assembly modes and the driver are unchanged; only the drawn
+    input angle moves. Returns ``linkage`` itself if sample ``k`` is not assemblable or is 0."""
+    if k == 0 or not (0 <= k < arrays.n) or not arrays.valid[k]:
+        return linkage
+    joints = []
+    for j in linkage.joints:
+        p = arrays.pos[j.id][k]
+        if not np.isfinite(p).all():
+            return linkage
+        axis = j.axis_deg
+        if j.kind is JointKind.P:
+            axis = math.remainder(float(arrays.axis[j.id][k]), 360.0)
+        joints.append(replace(j, at=(float(p[0]), float(p[1])), axis_deg=axis))
+    return replace(linkage, joints=tuple(joints))
+
+
+def to_drawn(arrays: SolutionArrays | None, linkage: Linkage, link_id: str, k: int | None, p: XY) -> XY:
+    """The drawn-pose position of the point of ``link_id`` shown at ``p`` at sample ``k``."""
+    if arrays is None or k is None or k == 0 or link_id == linkage.ground:
+        return p
+    sol = arrays.solution
+    anchor = next((j for j in linkage.link(link_id).joints if linkage.joint(j).kind is JointKind.R), None)
+    if anchor is None:
+        return p
+    rho = float(sol.rotation(link_id)[k])
+    f = complex(*arrays.pos[anchor][k])
+    d = complex(*linkage.joint(anchor).at)
+    z = d + cmath.exp(-1j * rho) * (complex(*p) - f)
+    return (z.real, z.imag)
+
+
+# -- walking frames through valid samples only -----------------------------------------------
+
+def nearest_valid(valid: np.ndarray, k: int) -> int | None:
+    """The valid sample nearest to ``k`` (cyclic), or None if none is valid."""
+    n = len(valid)
+    if n == 0:
+        return None
+    k %= n
+    if valid[k]:
+        return k
+    idx = np.flatnonzero(valid)
+    if not idx.size:
+        return None
+    d = np.minimum((idx - k) % n, (k - idx) % n)
+    return int(idx[int(np.argmin(d))])
+
+
+def _walk(valid: np.ndarray, start: int, steps: int, direction: int) -> tuple[int, bool]:
+    """Go ``steps`` samples from ``start`` in ``direction``; stop before an invalid one."""
+    n = len(valid)
+    path = (start + direction * np.arange(1, steps + 1)) % n
+    bad = np.flatnonzero(~valid[path])
+    if not bad.size:
+        return (int(path[-1]) if steps else start), False
+    first = int(bad[0])
+    return (int(path[first - 1]) if first else start), True
+
+
+def walk_to(valid: np.ndarray, start: int, target: int) -> tuple[int, bool]:
+    """Move from ``start`` towards ``target`` through valid samples only.
+
+    Takes the shorter way round the cycle unless an infeasible gap blocks it and the other way is
+    free. Returns ``(index reached, blocked)``; when blocked the index is the last valid sample
+    before the gap (a reachable limit), never a sample beyond it.
+    """
+    n = len(valid)
+    if n == 0:
+        return 0, False
+    start, target = start % n, target % n
+    fwd = (target - start) % n
+    if fwd == 0:
+        return start, False
+    ways = sorted([(fwd, 1), (n - fwd, -1)])
+    first = _walk(valid, start, *ways[0])
+    if not first[1]:
+        return first
+    second = _walk(valid, start, *ways[1])
+    return second if not second[1] else first

@@ -1,0 +1,515 @@
+"""The canvas: a QGraphicsView in world millimetres with y up, drawing the controller's scene.
+
+Embedding (the shell does this once)::
+
+    view = CanvasView(controller)                 # a QWidget; setCentralWidget(view)
+    toolbar.addActions(list(view.toolbox.actions.values()))   # select, ground, crank, ... (S G C R P I K D M)
+    view_menu.addActions([view.zoom_fit_action, view.snap_action, view.trace_action, view.labels_action])
+    edit_menu.addAction(view.delete_action)       # Del: delete the selection (one undo command)
+    view.set_tap_action(player.play_action)       # Space tapped on the canvas plays/pauses,
+                                                  # Space held + drag pans
+    view.dragStarted.connect(player.pause)        # a drag on the canvas pauses the animation
+    view.cursorMoved.connect(lambda x, y: status.showMessage(f"{x:.2f}, {y:.2f} mm"))
+
+It shows every linkage at the controller's current frame when it has a solution, else at its
+drawn pose (with a short note if it does not solve yet). Mouse input becomes
+:class:`~mechsketch.gui.canvas.events.CanvasEvent` for the active tool of :attr:`toolbox`.
+Zoom with the wheel (about the cursor), pan with the middle button or Space + drag, fit with F
+or a middle double-click, cancel a tool's half-done placement with Esc or the right button.
+"""
+from __future__ import annotations
+
+import math
+
+from PySide6.QtCore import QEvent, QLineF, QPointF, QRectF, Qt, Signal
+from PySide6.QtGui import (QAction, QColor, QKeyEvent, QKeySequence, QMouseEvent, QPainter, QPen,
+                           QTransform, QWheelEvent)
+from PySide6.QtWidgets import QGraphicsScene, QGraphicsView, QWidget
+
+from mechsketch.core.model.linkage import JointKind, Linkage
+
+from .events import XY, CanvasEvent, Hit
+from .items import DeadPointItem, LinkageItem, OverlayItem, TraceItem
+from .toolbox import ToolBox
+from .tools import ToolContext, delete_selection
+
+PICK_PX = 8.0                 # pick radius, screen pixels
+GRID_MIN_PX = 12.0            # the minor grid is at least this far apart on screen
+SCALE_RANGE = (0.02, 400.0)   # pixels per millimetre
+WORLD = 1.0e5                 # the scene spans +-WORLD mm
+BACKGROUND = QColor("#fbfbfc")
+GRID_MINOR = QColor("#eceef2")
+GRID_MAJOR = QColor("#d9dde4")
+GRID_AXES = QColor("#b4bac5")
+
+
+def grid_steps(px: float) -> tuple[float, float]:
+    """(minor, major) grid spacing in mm for ``px`` mm per pixel: 1-2-5 steps, major a power of
+    ten or five times one, at least five minors apart."""
+    raw = GRID_MIN_PX * px
+    e = math.floor(math.log10(raw))
+    for m in (1, 2, 5, 10):
+        if m * 10.0 ** e >= raw * (1 - 1e-9):
+            minor = m * 10.0 ** e
+            break
+    lead = round(minor / 10.0 ** math.floor(math.log10(minor) + 1e-9))
+    major = minor * (10 if lead in (1, 5) else 5)
+    return minor, major
+
+
+def default_traced(linkage: Linkage) -> set[str]:
+    """Coupler points: revolute joints carried by exactly one link that is neither the frame nor
+    the driver. Their paths are traced unless the user switches them off."""
+    out = set()
+    for j in linkage.joints:
+        carriers = linkage.links_of(j.id)
+        if (j.kind is JointKind.R and len(carriers) == 1
+                and carriers[0] not in (linkage.ground, linkage.driver.link)):
+            out.add(j.id)
+    return out
+
+
+class _ElementItems:
+    """The few graphics items of one linkage."""
+
+    def __init__(self, scene: QGraphicsScene, pose) -> None:
+        self.linkage = LinkageItem(pose)
+        self.trace = TraceItem()
+        self.dead = DeadPointItem()
+        for it in (self.trace, self.dead, self.linkage):
+            scene.addItem(it)
+
+    def all(self) -> tuple:
+        return (self.linkage, self.trace, self.dead)
+
+
+class CanvasView(QGraphicsView):
+    """The mechanism canvas. See the module docstring for embedding.
+
+    Signals: ``cursorMoved(x_mm, y_mm)``, ``dragStarted()``, ``dragFinished()`` (a joint,
+    link or crank drag), ``toolChanged(name)`` (forwarded from :attr:`toolbox`).
+    """
+
+    cursorMoved = Signal(float, float)
+    dragStarted = Signal()
+    dragFinished = Signal()
+    toolChanged = Signal(str)
+
+    def __init__(self, controller, parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.controller = controller
+        self.ctx = ToolContext(controller)
+        self.toolbox = ToolBox(self.ctx, self)
+        self.toolbox.toolChanged.connect(self._tool_changed)
+        self._scene = QGraphicsScene(self)
+        self._scene.setSceneRect(-WORLD, -WORLD, 2 * WORLD, 2 * WORLD)
+        self._scene.setItemIndexMethod(QGraphicsScene.ItemIndexMethod.NoIndex)
+        self.setScene(self._scene)
+        self._items: dict[str, _ElementItems] = {}
+        self._overlay = OverlayItem()
+        self._scene.addItem(self._overlay)
+        self._trace_override: dict[tuple[str, str], bool] = {}
+        self._hover: Hit | None = None
+        self._key: tuple | None = None
+        self._ids: set[str] = set()
+        self._snap = True
+        self._pan_from: QPointF | None = None
+        self._space = False
+        self._space_panned = False
+        self._tap_action: QAction | None = None
+        self._busy = False
+        self._fitted = False
+        self._labels = True
+
+        self.setRenderHint(QPainter.RenderHint.Antialiasing, True)
+        self.setViewportUpdateMode(QGraphicsView.ViewportUpdateMode.FullViewportUpdate)
+        self.setTransformationAnchor(QGraphicsView.ViewportAnchor.AnchorUnderMouse)
+        self.setResizeAnchor(QGraphicsView.ViewportAnchor.AnchorViewCenter)
+        self.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
+        self.setVerticalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
+        self.setMouseTracking(True)
+        self.setFocusPolicy(Qt.FocusPolicy.StrongFocus)
+        self.setTransform(QTransform(3.0, 0, 0, -3.0, 0, 0))
+        self.setCursor(Qt.CursorShape.ArrowCursor)
+        self._make_actions()
+
+        controller.sceneChanged.connect(self._sync)
+        controller.solutionsChanged.connect(self._sync)
+        controller.frameChanged.connect(self._on_frame)
+        controller.selectionChanged.connect(self._highlight)
+        self._sync()
+
+    # -- actions ------------------------------------------------------------------------------
+    def _make_actions(self) -> None:
+        def action(text: str, shortcut: QKeySequence | str, slot, checkable: bool = False,
+                   tip: str = "") -> QAction:
+            act = QAction(text, self)
+            act.setShortcut(QKeySequence(shortcut))
+            act.setCheckable(checkable)
+            act.setStatusTip(tip)
+            act.triggered.connect(slot)
+            self.addAction(act)
+            return act
+
+        self.snap_action = action("Snap to Grid", "F9", self._snap_toggled, True,
+                                  "snap to the grid and to joints")
+        self.snap_action.setChecked(True)
+        self.zoom_fit_action = action("Zoom to Fit", "F", lambda: self.zoom_to_fit(), tip="show the whole mechanism")
+        self.trace_action = action("Trace Selected Joints", "T", lambda: self.toggle_trace_selected(),
+                                   tip="draw (or stop drawing) the paths of the selected joints")
+        self.labels_action = action("Show Ids", "L", self._labels_toggled, True, "label joints and links")
+        self.labels_action.setChecked(True)
+        self.delete_action = action("Delete", QKeySequence.StandardKey.Delete, lambda: self.delete_selected(),
+                                    tip="delete the selected joints and links")
+        self.addActions(list(self.toolbox.actions.values()))
+
+    @property
+    def tool_actions(self) -> list[QAction]:
+        """The tool actions in toolbar order."""
+        return list(self.toolbox.actions.values())
+
+    def set_tool(self, name: str) -> None:
+        self.toolbox.set_tool(name)
+
+    def set_tap_action(self, action: QAction | None) -> None:
+        """The action a tap on Space triggers while the canvas has focus (Space + drag pans)."""
+        self._tap_action = action
+
+    @property
+    def snap_enabled(self) -> bool:
+        """Snapping to the grid (and to joints) is on."""
+        return self._snap
+
+    @snap_enabled.setter
+    def snap_enabled(self, on: bool) -> None:
+        self._snap = bool(on)
+        if self.snap_action.isChecked() != self._snap:
+            self.snap_action.setChecked(self._snap)
+
+    def _snap_toggled(self, on: bool) -> None:
+        self.snap_enabled = on
+        self.controller.message.emit("snapping on" if on else "snapping off")
+
+    def _labels_toggled(self, on: bool) -> None:
+        self._labels = on
+        for items in self._items.values():
+            items.linkage.show_labels = on
+            items.linkage.update()
+
+    def _tool_changed(self, name: str) -> None:
+        self._overlay.set_overlay(self.toolbox.tool.overlay())
+        self.setCursor(Qt.CursorShape.ArrowCursor if name == "select" else Qt.CursorShape.CrossCursor)
+        self.toolChanged.emit(name)
+
+    # -- geometry helpers -----------------------------------------------------------------------
+    def px(self) -> float:
+        """Millimetres per screen pixel."""
+        return 1.0 / abs(self.transform().m11())
+
+    def world(self, view_pos: QPointF) -> XY:
+        p = self.mapToScene(view_pos.toPoint())
+        return (p.x(), p.y())
+
+    def snap_step(self) -> float:
+        """The grid step positions snap to at the current zoom, mm."""
+        return grid_steps(self.px())[0]
+
+    def snap(self, raw: XY, hit: Hit | None = None) -> XY:
+        """``raw`` snapped to the joint under the cursor, else to the grid (if snapping is on)."""
+        if not self._snap:
+            return raw
+        if hit is not None and hit.kind == "joint" and not self.toolbox.tool.busy:
+            return self.ctx.at(hit.element, hit.id)
+        s = self.snap_step()
+        return (round(raw[0] / s) * s + 0.0, round(raw[1] / s) * s + 0.0)
+
+    # -- syncing with the controller ------------------------------------------------------------
+    def traced_joints(self, linkage: Linkage) -> list[str]:
+        """Joints of ``linkage`` whose paths are drawn."""
+        base = default_traced(linkage)
+        out = [j for j in linkage.joint_ids
+               if self._trace_override.get((linkage.id, j), j in base)]
+        return out
+
+    def set_traced(self, element_id: str, joint_id: str, on: bool) -> None:
+        """Draw (or stop drawing) the path of one joint."""
+        self._trace_override[(element_id, joint_id)] = bool(on)
+        self._key = None
+        self._sync()
+
+    def toggle_trace_selected(self) -> None:
+        """Trace the selected joints (or stop, if all of them are traced already)."""
+        joints = [(el, i) for el, kind, i in self.controller.selection if kind == "joint"]
+        if not joints:
+            self.controller.message.emit("select joints first, then T traces their paths")
+            return
+        traced = {(lk.id, j) for lk in self.controller.linkages() for j in self.traced_joints(lk)}
+        on = not all(j in traced for j in joints)
+        for el, j in joints:
+            self._trace_override[(el, j)] = on
+        self._key = None
+        self._sync()
+        names = ", ".join(j for _, j in joints)
+        self.controller.message.emit(f"tracing {names}" if on else f"not tracing {names}")
+
+    def _sync(self) -> None:
+        """Rebuild items after the document or its solutions changed (cheap when nothing did)."""
+        ctl = self.controller
+        key = (id(ctl.scene), tuple((el, id(r.solution), r.error) for el, r in ctl.results().items()))
+        if key == self._key:
+            return
+        self._key = key
+        poses = self.ctx.poses()
+        live = {p.element for p in poses}
+        for gone in set(self._items) - live:
+            for it in self._items.pop(gone).all():
+                self._scene.removeItem(it)
+        px = self.px()
+        for pose in poses:
+            items = self._items.get(pose.element)
+            if items is None:
+                items = self._items[pose.element] = _ElementItems(self._scene, pose)
+                items.linkage.show_labels = self._labels
+            for it in items.all():
+                it.set_px(px)
+            items.linkage.set_pose(pose)
+            items.trace.set_data(pose, self.traced_joints(pose.linkage))
+            items.dead.set_data(pose, ctl.result(pose.element))
+        self._highlight()
+        # a document replaced (open, new: history cleared), not a linkage begun with a tool
+        replaced = live and not (live & self._ids) and ctl.undo_stack.count() == 0 and not self.ctx.pushing
+        self._ids = live
+        if replaced and self.isVisible():
+            self.zoom_to_fit(quiet=True)
+
+    def _on_frame(self, _frame: int = 0) -> None:
+        for pose in self.ctx.poses():
+            items = self._items.get(pose.element)
+            if items is not None:
+                items.linkage.set_pose(pose)
+
+    def _highlight(self) -> None:
+        sel = self.controller.selection
+        for el, items in self._items.items():
+            items.linkage.set_highlight(self._hover, {(k, i) for e, k, i in sel if e == el})
+
+    # -- zoom -------------------------------------------------------------------------------------
+    def extent(self) -> QRectF:
+        """Everything shown, over the whole cycle where solved, in mm."""
+        rect = QRectF()
+        for pose in self.ctx.poses():
+            pts = list(pose.at.values())
+            if pose.arrays is not None:
+                ext = pose.arrays.extent()
+                if ext:
+                    pts += [(ext[0], ext[1]), (ext[2], ext[3])]
+            if pts:
+                xs, ys = [p[0] for p in pts], [p[1] for p in pts]
+                rect = rect.united(QRectF(min(xs), min(ys), max(xs) - min(xs), max(ys) - min(ys)))
+        return rect
+
+    def zoom_to_fit(self, quiet: bool = False) -> None:
+        """Show the whole mechanism (its motion included) with a margin."""
+        rect = self.extent()
+        if rect.width() < 1.0 and rect.height() < 1.0:
+            c = rect.center() if not rect.isNull() else QPointF(0, 0)
+            rect = QRectF(c.x() - 100, c.y() - 80, 200, 160)
+        self.zoom_to_rect(rect.adjusted(-0.08 * rect.width() - 15, -0.08 * rect.height() - 15,
+                                        0.08 * rect.width() + 15, 0.08 * rect.height() + 15))
+        self._fitted = True
+
+    def zoom_to_rect(self, rect: QRectF) -> None:
+        """Fit ``rect`` (mm) in the viewport, keeping y up and equal scales."""
+        vp = self.viewport().rect()
+        s = min(vp.width() / max(rect.width(), 1e-9), vp.height() / max(rect.height(), 1e-9))
+        s = min(max(s, SCALE_RANGE[0]), SCALE_RANGE[1])
+        self.setTransform(QTransform(s, 0, 0, -s, 0, 0))
+        self.centerOn(rect.center())
+        self._zoomed()
+
+    def zoom_by(self, factor: float) -> None:
+        s = abs(self.transform().m11())
+        factor = min(max(factor, SCALE_RANGE[0] / s), SCALE_RANGE[1] / s)
+        self.scale(factor, factor)
+        self._zoomed()
+
+    def _zoomed(self) -> None:
+        px = self.px()
+        for items in self._items.values():
+            for it in items.all():
+                it.set_px(px)
+        self._overlay.set_px(px)
+        self.viewport().update()
+
+    def showEvent(self, event) -> None:  # noqa: N802 - Qt API
+        super().showEvent(event)
+        if not self._fitted:
+            self.zoom_to_fit(quiet=True)
+
+    def wheelEvent(self, event: QWheelEvent) -> None:  # noqa: N802 - Qt API
+        delta = event.angleDelta().y() or event.angleDelta().x()
+        if delta:
+            self.zoom_by(1.0015 ** delta)
+        event.accept()
+
+    # -- mouse ------------------------------------------------------------------------------------
+    def _canvas_event(self, kind: str, e: QMouseEvent) -> CanvasEvent:
+        raw = self.world(e.position())
+        tol = PICK_PX * self.px()
+        hit = self.ctx.pick(raw, tol)
+        names = {Qt.MouseButton.LeftButton: "left", Qt.MouseButton.RightButton: "right",
+                 Qt.MouseButton.MiddleButton: "middle"}
+        held = frozenset(n for b, n in names.items() if e.buttons() & b)
+        mods = e.modifiers()
+        modifiers = frozenset(n for m, n in ((Qt.KeyboardModifier.ShiftModifier, "shift"),
+                                             (Qt.KeyboardModifier.ControlModifier, "ctrl"),
+                                             (Qt.KeyboardModifier.AltModifier, "alt")) if mods & m)
+        return CanvasEvent(kind, self.snap(raw, hit), raw, names.get(e.button(), "none"), held, modifiers,
+                           hit, tol)
+
+    def dispatch(self, ev: CanvasEvent) -> None:
+        """Hand ``ev`` to the active tool and show the result (public for tests and macros)."""
+        tool = self.toolbox.tool
+        tool.handle(ev)
+        self._overlay.set_overlay(tool.overlay())
+        if tool.busy != self._busy:
+            self._busy = tool.busy
+            (self.dragStarted if self._busy else self.dragFinished).emit()
+            if not self._busy:
+                self._on_frame()
+        if ev.kind == "move" and not ev.buttons and ev.hit != self._hover:
+            self._hover = ev.hit
+            self._highlight()
+
+    def mousePressEvent(self, e: QMouseEvent) -> None:  # noqa: N802 - Qt API
+        if e.button() == Qt.MouseButton.MiddleButton or (e.button() == Qt.MouseButton.LeftButton and self._space):
+            self._pan_from = e.position()
+            self._space_panned = True
+            self.setCursor(Qt.CursorShape.ClosedHandCursor)
+            return
+        if e.button() == Qt.MouseButton.RightButton:
+            self.cancel_tool()
+            return
+        self.dispatch(self._canvas_event("press", e))
+
+    def mouseMoveEvent(self, e: QMouseEvent) -> None:  # noqa: N802 - Qt API
+        if self._pan_from is not None:
+            d = e.position() - self._pan_from
+            self._pan_from = e.position()
+            self.horizontalScrollBar().setValue(self.horizontalScrollBar().value() - round(d.x()))
+            self.verticalScrollBar().setValue(self.verticalScrollBar().value() - round(d.y()))
+            return
+        ev = self._canvas_event("move", e)
+        self.cursorMoved.emit(ev.pos[0], ev.pos[1])
+        self.dispatch(ev)
+
+    def mouseReleaseEvent(self, e: QMouseEvent) -> None:  # noqa: N802 - Qt API
+        if self._pan_from is not None:
+            self._pan_from = None
+            self.setCursor(Qt.CursorShape.OpenHandCursor if self._space else
+                           Qt.CursorShape.ArrowCursor if self.toolbox.name == "select" else Qt.CursorShape.CrossCursor)
+            return
+        if e.button() == Qt.MouseButton.RightButton:
+            return
+        self.dispatch(self._canvas_event("release", e))
+
+    def mouseDoubleClickEvent(self, e: QMouseEvent) -> None:  # noqa: N802 - Qt API
+        if e.button() == Qt.MouseButton.MiddleButton:
+            self.zoom_to_fit()
+            return
+        self.dispatch(self._canvas_event("double", e))
+
+    def leaveEvent(self, event) -> None:  # noqa: N802 - Qt API
+        if self._hover is not None:
+            self._hover = None
+            self._highlight()
+        super().leaveEvent(event)
+
+    def cancel_tool(self) -> None:
+        """Abandon what the active tool is doing (a half-placed dyad, a drag)."""
+        tool = self.toolbox.tool
+        tool.cancel()
+        self._overlay.set_overlay(tool.overlay())
+        if self._busy:
+            self._busy = False
+            self.dragFinished.emit()
+            self._on_frame()
+
+    def delete_selected(self) -> bool:
+        """Delete the selected joints and links as one undo command."""
+        return delete_selection(self.ctx, list(self.controller.selection))
+
+    # -- keys -------------------------------------------------------------------------------------
+    def event(self, e: QEvent) -> bool:  # noqa: D401 - Qt API
+        if (e.type() == QEvent.Type.ShortcutOverride and isinstance(e, QKeyEvent)
+                and e.key() in (Qt.Key.Key_Space, Qt.Key.Key_Escape) and not e.modifiers()):
+            e.accept()
+            return True
+        return super().event(e)
+
+    def keyPressEvent(self, e: QKeyEvent) -> None:  # noqa: N802 - Qt API
+        if e.key() == Qt.Key.Key_Escape:
+            self.cancel_tool()
+        elif e.key() == Qt.Key.Key_Space:
+            if not e.isAutoRepeat():
+                self._space, self._space_panned = True, False
+                self.setCursor(Qt.CursorShape.OpenHandCursor)
+        else:
+            super().keyPressEvent(e)
+
+    def keyReleaseEvent(self, e: QKeyEvent) -> None:  # noqa: N802 - Qt API
+        if e.key() == Qt.Key.Key_Space and not e.isAutoRepeat():
+            self._space = False
+            self.setCursor(Qt.CursorShape.ArrowCursor if self.toolbox.name == "select" else Qt.CursorShape.CrossCursor)
+            if not self._space_panned and self._tap_action is not None:
+                self._tap_action.trigger()
+        else:
+            super().keyReleaseEvent(e)
+
+    # -- painting ---------------------------------------------------------------------------------
+    def drawBackground(self, painter: QPainter, rect: QRectF) -> None:  # noqa: N802 - Qt API
+        painter.fillRect(rect, BACKGROUND)
+        painter.setRenderHint(QPainter.RenderHint.Antialiasing, False)
+        minor, major = grid_steps(self.px())
+        for step, color in ((minor, GRID_MINOR), (major, GRID_MAJOR)):
+            pen = QPen(color, 0)
+            pen.setCosmetic(True)
+            painter.setPen(pen)
+            lines = []
+            k0, k1 = math.floor(rect.left() / step), math.ceil(rect.right() / step)
+            if k1 - k0 < 2000:
+                lines += [QLineF(k * step, rect.top(), k * step, rect.bottom()) for k in range(k0, k1 + 1)]
+            k0, k1 = math.floor(rect.top() / step), math.ceil(rect.bottom() / step)
+            if k1 - k0 < 2000:
+                lines += [QLineF(rect.left(), k * step, rect.right(), k * step) for k in range(k0, k1 + 1)]
+            painter.drawLines(lines)
+        pen = QPen(GRID_AXES, 0)
+        pen.setCosmetic(True)
+        painter.setPen(pen)
+        painter.drawLines([QLineF(0, rect.top(), 0, rect.bottom()), QLineF(rect.left(), 0, rect.right(), 0)])
+
+    def drawForeground(self, painter: QPainter, rect: QRectF) -> None:  # noqa: N802 - Qt API
+        """A scale bar in the bottom-left corner."""
+        px = self.px()
+        _minor, major = grid_steps(px)
+        length = major
+        while length / px > 160:
+            length /= 2
+        while length / px < 60:
+            length *= 2
+        painter.save()
+        painter.resetTransform()
+        painter.setRenderHint(QPainter.RenderHint.Antialiasing, True)
+        h = self.viewport().height()
+        x0, y0, w = 16.0, h - 18.0, length / px
+        pen = QPen(QColor("#4b5563"), 1.5)
+        painter.setPen(pen)
+        painter.drawLine(QPointF(x0, y0), QPointF(x0 + w, y0))
+        for x in (x0, x0 + w):
+            painter.drawLine(QPointF(x, y0 - 5), QPointF(x, y0 + 1))
+        font = painter.font()
+        font.setPixelSize(11)
+        painter.setFont(font)
+        label = f"{length:g} mm"
+        painter.drawText(QPointF(x0 + w + 6, y0 + 4), label)
+        painter.restore()
