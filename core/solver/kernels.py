@@ -87,6 +87,13 @@ class DyadOut:
     extra: dict
 
 
+#: PRP/RPP: below this |sin| between the two slide axes the lines are taken as parallel (not
+#: assemblable). The intersection lies ~size/|sin| away and its rounding error is ~eps·size/|sin|,
+#: so 1e-6 keeps loop closure within ~1e-10 of the size; a smaller limit lets rounding noise at
+#: exactly parallel axes (|sin| ~ 1e-15) through as a "valid" pose 1e16 mm away.
+PARALLEL_COND = 1e-6
+
+
 def _sqrt_ok(x: Arr) -> tuple[Arr, Arr]:
     ok = x >= 0.0
     return np.sqrt(np.where(ok, x, np.nan)), ok
@@ -248,7 +255,7 @@ def prp(g1: LinkState, s1: complex, u1_0: complex, g2: LinkState, s2: complex, u
     c1, c2 = u1, -u2
     p1, p2, det = solve2(c1, c2, z2 + b2 - z1 - b1)
     cond = np.abs(det)
-    ok = np.isfinite(p1) & (cond > 1e-15)
+    ok = np.isfinite(p1) & (cond > PARALLEL_COND)
     gap = cond
     L = z1 + b1 + p1 * u1
     if order >= 1:
@@ -280,7 +287,7 @@ def rpp(m_state: LinkState, m0: complex, si0: complex, ui0: complex, g: LinkStat
     d = M - z2 + g.rot * (s2 - m0)
     p1, p2, det = solve2(u1, u2, d)
     cond = np.abs(det)
-    ok = np.isfinite(p2) & (cond > 1e-15)
+    ok = np.isfinite(p2) & (cond > PARALLEL_COND)
     st_i = LinkState(m0, M, g.rot)
     if order >= 1:
         vM = m_state.velocity(m0, M)
