@@ -26,26 +26,32 @@ from .autosave import INTERVAL_MS, Autosave
 from .controller import SceneController
 from .dialogs import DialogService, QtDialogService
 from .file_ops import FileOps, make_settings
-from .main_window import Components, MainWindow
+from .main_window import CanvasParts, Components, MainWindow
 
 ExceptHook = Callable[[type[BaseException], BaseException, TracebackType | None], None]
 
 
-def default_components() -> Components:
-    """The real canvas, tools, animation player and scrub bar."""
+def canvas_parts(controller: SceneController, window: MainWindow) -> CanvasParts:
+    """The real canvas, tools, animation player and scrub bar, wired to each other and to the
+    window's status bar (the :data:`Components` the app uses)."""
     from .animation import AnimationPlayer
-    from .canvas.tools import tool_actions
     from .canvas.view import CanvasView
     from .scrubbar import ScrubBar
 
-    return Components(
-        canvas=CanvasView,
-        player=AnimationPlayer,
-        scrubbar=ScrubBar,
-        tool_actions=lambda view, parent: list(tool_actions(view, parent)),
-        snap_action=lambda view, parent: view.snap_action(parent) if hasattr(view, "snap_action") else None,
-        player_actions=lambda player, parent: list(player.actions(parent)) if hasattr(player, "actions") else [],
-    )
+    view = CanvasView(controller)
+    player = AnimationPlayer(controller)
+    bar = ScrubBar(controller, player)
+    view.set_tap_action(player.play_action)       # Space on the canvas plays/pauses
+    view.dragStarted.connect(player.pause)        # a drag pauses the animation
+    view.cursorMoved.connect(window.show_cursor)
+    player.stopped.connect(window.show_message)
+    animation = [player.play_action, player.direction_action, player.step_forward_action,
+                 player.step_back_action, *player.dead_point_actions.actions()]
+    return CanvasParts(view, player, bar, tools=view.tool_actions,
+                       view_actions=[view.zoom_fit_action, view.snap_action, view.trace_action,
+                                     view.labels_action],
+                       animation_actions=animation, delete=view.delete_action,
+                       zoom_fit=view.zoom_fit_action, stop=player.pause)
 
 
 def qapplication(argv: list[str] | None = None) -> QApplication:
@@ -102,7 +108,7 @@ def build(scene_path: str | os.PathLike | None = None, *, dialogs: DialogService
     file_ops = FileOps(controller, service, make_settings(settings_path))
     autosave = Autosave(controller, Path(state_dir) if state_dir is not None else None, autosave_ms)
     window = MainWindow(controller, service, file_ops, autosave,
-                        components if components is not None else default_components())
+                        components if components is not None else canvas_parts)
     if isinstance(service, QtDialogService):
         service.parent = window
     parts = AppParts(app, controller, service, file_ops, autosave, window, started)
@@ -159,6 +165,18 @@ def install_excepthook(parts: AppParts) -> ExceptHook:
     return previous
 
 
+def fit_to_screen(window: MainWindow) -> None:
+    """Shrink the window to 95 % of the screen's free area if it is larger, and centre it."""
+    screen = window.screen() or QApplication.primaryScreen()
+    if screen is None:
+        return
+    free = screen.availableGeometry()
+    w = min(window.width(), int(free.width() * 0.95))
+    h = min(window.height(), int(free.height() * 0.95))
+    window.resize(w, h)
+    window.move(free.x() + (free.width() - w) // 2, free.y() + (free.height() - h) // 2)
+
+
 def _no_display() -> bool:
     """True on Linux/BSD when no display is reachable and the user chose no platform plugin."""
     if os.environ.get("QT_QPA_PLATFORM") or not sys.platform.startswith(("linux", "freebsd", "openbsd")):
@@ -176,6 +194,7 @@ def run_app(scene_path: str | os.PathLike | None = None) -> int:
     parts = build(scene_path)
     previous = install_excepthook(parts)
     try:
+        fit_to_screen(parts.window)
         parts.window.show()
         parts.controller.message.emit(
             f"ready in {time.perf_counter() - parts.started:.2f} s")

@@ -9,7 +9,7 @@ so the window can be built with stand-ins.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable
 
@@ -17,8 +17,7 @@ from PySide6.QtCore import QObject, Qt
 from PySide6.QtGui import QAction, QCloseEvent, QKeySequence
 from PySide6.QtWidgets import QDockWidget, QLabel, QMainWindow, QMenu, QVBoxLayout, QWidget
 
-from mechsketch.core import ExportError, MechsketchError, ReplaceElement
-from mechsketch.core.model.linkage import Linkage
+from mechsketch.core import ExportError
 
 from .autosave import Autosave
 from .controller import SceneController
@@ -30,23 +29,28 @@ from .panels.properties import PropertiesPanel
 
 
 @dataclass
-class Components:
-    """Factories of the canvas-side parts, so tests and the app can choose them.
+class CanvasParts:
+    """What the canvas side contributes to the window, already wired to each other.
 
-    ``canvas(controller)`` -> the view (a QWidget with ``zoom_to_fit()``);
-    ``player(controller)`` -> the animation player (a QObject);
-    ``scrubbar(controller, player)`` -> the scrub bar widget;
-    ``tool_actions(canvas, parent)`` -> checkable, exclusive tool QActions;
-    ``snap_action(canvas, parent)`` -> the snap toggle QAction (or None);
-    ``player_actions(player, parent)`` -> play/pause... QActions.
+    ``view``: the canvas; ``player``: the animation player; ``scrubbar``: the widget under the
+    canvas; ``tools``: checkable, exclusive tool actions; ``view_actions``: zoom to fit, snap, ...;
+    ``animation_actions``: play/pause, direction, steps...; ``delete`` / ``zoom_fit``: the canvas's
+    own Delete and Zoom-to-fit actions; ``stop``: pause the animation (called on close).
     """
 
-    canvas: Callable[[SceneController], QWidget]
-    player: Callable[[SceneController], QObject]
-    scrubbar: Callable[[SceneController, QObject], QWidget]
-    tool_actions: Callable[[QWidget, QObject], list[QAction]]
-    snap_action: Callable[[QWidget, QObject], QAction | None]
-    player_actions: Callable[[QObject, QObject], list[QAction]]
+    view: QWidget
+    player: QObject
+    scrubbar: QWidget
+    tools: list[QAction] = field(default_factory=list)
+    view_actions: list[QAction] = field(default_factory=list)
+    animation_actions: list[QAction] = field(default_factory=list)
+    delete: QAction | None = None
+    zoom_fit: QAction | None = None
+    stop: Callable[[], None] | None = None
+
+
+#: makes the canvas parts for a controller and the window (status-bar sinks); see app.py
+Components = Callable[[SceneController, "MainWindow"], CanvasParts]
 
 
 class MainWindow(QMainWindow):
@@ -65,9 +69,9 @@ class MainWindow(QMainWindow):
         self.resize(1440, 900)
 
         # -- components ---------------------------------------------------------------------
-        self.canvas = components.canvas(controller)
-        self.player = components.player(controller)
-        self.scrubbar = components.scrubbar(controller, self.player)
+        self.cursor_label = QLabel()
+        self.parts = components(controller, self)
+        self.canvas, self.player, self.scrubbar = self.parts.view, self.parts.player, self.parts.scrubbar
         central = QWidget()
         column = QVBoxLayout(central)
         column.setContentsMargins(0, 0, 0, 0)
@@ -87,14 +91,12 @@ class MainWindow(QMainWindow):
         self.resizeDocks([self.docks["properties"], self.docks["diagnostics"]], [470, 330], Qt.Orientation.Vertical)
 
         # -- actions, menus, toolbar, status bar --------------------------------------------
-        self.tool_actions = components.tool_actions(self.canvas, self)
-        self.snap = components.snap_action(self.canvas, self)
-        self.player_actions = components.player_actions(self.player, self)
         self._make_actions()
         self._make_menus()
         self._make_toolbar()
         self.frame_label = QLabel()
         self.solve_label = QLabel()
+        self.statusBar().addPermanentWidget(self.cursor_label)
         self.statusBar().addPermanentWidget(self.solve_label)
         self.statusBar().addPermanentWidget(self.frame_label)
 
@@ -105,12 +107,10 @@ class MainWindow(QMainWindow):
         controller.sceneChanged.connect(self.update_title)
         controller.solutionsChanged.connect(self._update_status)
         controller.frameChanged.connect(lambda _i: self._update_frame())
-        controller.selectionChanged.connect(self._update_enabled)
         file_ops.recentChanged.connect(self._fill_recent)
         self.plots.add_header_actions([self.actions["export_png"], self.actions["export_csv"]])
         self.update_title()
         self._update_status()
-        self._update_enabled()
 
     # -- construction helpers ----------------------------------------------------------------
     def _dock(self, title: str, widget: QWidget, area: Qt.DockWidgetArea) -> QDockWidget:
@@ -148,8 +148,10 @@ class MainWindow(QMainWindow):
         redo = self.controller.undo_stack.createRedoAction(self, "&Redo")
         redo.setShortcut(QKeySequence(K.Redo))
         self.actions["undo"], self.actions["redo"] = undo, redo
-        self._action("delete", "&Delete", self.delete_selection, K.Delete, "Delete the selected joints and links")
-        self._action("zoom_fit", "Zoom to &fit", self.zoom_to_fit, "F", "Show the whole scene")
+        if self.parts.delete is not None:
+            self.actions["delete"] = self.parts.delete
+        if self.parts.zoom_fit is not None:
+            self.actions["zoom_fit"] = self.parts.zoom_fit
         self._action("about", "&About mechsketch", self.about)
         for name in self.file_ops.examples():
             self._action(f"example:{name}", name.replace("_", " "),
@@ -170,21 +172,19 @@ class MainWindow(QMainWindow):
         self._fill_recent()
         edit = bar.addMenu("&Edit")
         edit.addActions([a["undo"], a["redo"]])
-        edit.addSeparator()
-        edit.addAction(a["delete"])
+        if "delete" in a:
+            edit.addSeparator()
+            edit.addAction(a["delete"])
         view = bar.addMenu("&View")
-        view.addAction(a["zoom_fit"])
-        if self.player_actions:
-            view.addSeparator()
-            view.addActions(self.player_actions)
+        view.addActions(self.parts.view_actions)
+        if self.parts.animation_actions:
+            animation = view.addMenu("&Animation")
+            animation.addActions(self.parts.animation_actions)
         view.addSeparator()
         for dock in self.docks.values():
             view.addAction(dock.toggleViewAction())
         tools = bar.addMenu("&Tools")
-        tools.addActions(self.tool_actions)
-        if self.snap is not None:
-            tools.addSeparator()
-            tools.addAction(self.snap)
+        tools.addActions(self.parts.tools)
         examples = bar.addMenu("E&xamples")
         for name in self.file_ops.examples():
             examples.addAction(a[f"example:{name}"])
@@ -197,19 +197,14 @@ class MainWindow(QMainWindow):
         bar.setObjectName("toolbar:main")
         bar.addActions([a["new"], a["open"], a["save"]])
         bar.addSeparator()
-        bar.addActions([a["undo"], a["redo"], a["delete"]])
-        bar.addSeparator()
-        bar.addAction(a["zoom_fit"])
-        if self.tool_actions:
+        bar.addActions([a["undo"], a["redo"]])
+        if "zoom_fit" in a:
+            bar.addSeparator()
+            bar.addAction(a["zoom_fit"])
+        if self.parts.tools:
             tools = self.addToolBar("Tools")
             tools.setObjectName("toolbar:tools")
-            tools.addActions(self.tool_actions)
-            if self.snap is not None:
-                tools.addSeparator()
-                tools.addAction(self.snap)
-        if self.player_actions:
-            bar.addSeparator()
-            bar.addActions(self.player_actions)
+            tools.addActions(self.parts.tools)
 
     def _fill_recent(self) -> None:
         self.recent_menu.clear()
@@ -229,7 +224,12 @@ class MainWindow(QMainWindow):
         self.setWindowTitle(f"{self.file_ops.display_name()}{dirty} — mechsketch")
 
     def show_message(self, text: str) -> None:
+        """A transient status-bar message."""
         self.statusBar().showMessage(text, 8000)
+
+    def show_cursor(self, x: float, y: float) -> None:
+        """The pointer's world position in the status bar."""
+        self.cursor_label.setText(f"{x:.2f}, {y:.2f} mm")
 
     def _update_status(self) -> None:
         parts = []
@@ -250,54 +250,7 @@ class MainWindow(QMainWindow):
                 return
         self.frame_label.setText("")
 
-    def _update_enabled(self) -> None:
-        self.actions["delete"].setEnabled(bool(self.controller.selection))
-
     # -- commands ----------------------------------------------------------------------------
-    def zoom_to_fit(self) -> None:
-        fit = getattr(self.canvas, "zoom_to_fit", None)
-        if callable(fit):
-            fit()
-
-    def delete_selection(self) -> bool:
-        """Delete the selected joints and links (one undo step); the ground link, the driver
-        and its pivot are refused with a message."""
-        picked: dict[str, list[tuple[str, str]]] = {}
-        for eid, kind, ident in self.controller.selection:
-            picked.setdefault(eid, []).append((kind, ident))
-        edits = []
-        for eid, items in picked.items():
-            try:
-                lk = self.controller.scene.element(eid)
-            except KeyError:
-                continue
-            if not isinstance(lk, Linkage):
-                continue
-            protected = {("link", lk.ground), ("link", lk.driver.link), ("joint", lk.driver.pivot)}
-            refused = [i for k, i in items if (k, i) in protected]
-            if refused:
-                self.show_message(f"cannot delete {', '.join(refused)}: the ground, the driver and "
-                                  "its pivot stay (draw a new linkage instead)")
-                return False
-            new = lk
-            try:
-                for kind, ident in items:
-                    new = new.without_joint(ident) if kind == "joint" else new.without_link(ident)
-            except (KeyError, MechsketchError) as exc:
-                self.show_message(f"cannot delete: {exc}")
-                return False
-            names = ", ".join(i for _, i in items)
-            edits.append((ReplaceElement(new, f"delete {names}"), f"delete {names}"))
-        if not edits:
-            return False
-        stack = self.controller.undo_stack
-        stack.beginMacro(edits[0][1] if len(edits) == 1 else "delete selection")
-        for edit, text in edits:
-            self.controller.push(edit, text)
-        stack.endMacro()
-        self.controller.set_selection([])
-        return True
-
     def _export(self, title: str, suffix: str, filt: str, write: Callable[[str], None]) -> bool:
         start = self.controller.path.with_suffix(suffix) if self.controller.path else Path.home() / f"plot{suffix}"
         name = self.dialogs.save_file_name(title, str(start), filt)
@@ -334,8 +287,7 @@ class MainWindow(QMainWindow):
         if not self.file_ops.maybe_save():
             event.ignore()
             return
-        stop = getattr(self.player, "stop", None)
-        if callable(stop):
-            stop()
+        if self.parts.stop is not None:
+            self.parts.stop()
         self.autosave.clean_exit()
         event.accept()

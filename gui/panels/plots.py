@@ -135,7 +135,8 @@ class PlotsPanel(QWidget):
             plot = self.graphics.addPlot(row=row, col=0)
             plot.showGrid(x=True, y=True, alpha=0.25)
             plot.setLabel("left", label)
-            plot.addLegend(offset=(-10, 5), labelTextSize="8pt")
+            plot.addLegend(offset=(-10, 5), labelTextSize="8pt", brush=pg.mkBrush(255, 255, 255, 210),
+                           pen=pg.mkPen("#ccc"))
             plot.setMenuEnabled(False)
             if first is not None:
                 plot.setXLink(first)

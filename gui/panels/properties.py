@@ -12,7 +12,8 @@ import math
 from dataclasses import replace
 from typing import Callable
 
-from PySide6.QtWidgets import (QComboBox, QFormLayout, QGroupBox, QHBoxLayout, QLabel, QLineEdit,
+from PySide6.QtCore import Qt
+from PySide6.QtWidgets import (QComboBox, QFormLayout, QFrame, QGroupBox, QHBoxLayout, QLabel, QLineEdit,
                                QPushButton, QScrollArea, QVBoxLayout, QWidget)
 
 from mechsketch.core import MechsketchError, MoveJoint, ReplaceElement
@@ -61,6 +62,8 @@ class PropertiesPanel(QWidget):
         self._content_layout.setContentsMargins(0, 0, 0, 0)
         scroll = QScrollArea()
         scroll.setWidgetResizable(True)
+        scroll.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
+        scroll.setFrameShape(QFrame.Shape.NoFrame)
         scroll.setWidget(self._content)
         layout = QVBoxLayout(self)
         layout.addWidget(self.selector)

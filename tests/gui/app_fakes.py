@@ -1,8 +1,8 @@
 """Test doubles for the app shell: a scripted dialog service and stand-in canvas components.
 
 ``FakeDialogs`` answers from queues the test fills and records every message, so no test patches
-Qt. ``stand_in_components()`` gives minimal widgets with the canvas parts' public names; the
-app's real components are used whenever they can be imported (see ``app_components``).
+Qt. ``stand_in_components`` gives minimal canvas parts for a subprocess that only needs the shell;
+the ``shell`` fixture uses the app's real canvas, player and scrub bar.
 """
 from __future__ import annotations
 
@@ -15,7 +15,7 @@ from PySide6.QtGui import QAction
 from PySide6.QtWidgets import QLabel, QWidget
 
 from mechsketch.gui.dialogs import CANCEL, DISCARD, SAVE  # noqa: F401 - re-exported for tests
-from mechsketch.gui.main_window import Components
+from mechsketch.gui.main_window import CanvasParts
 
 
 class FakeDialogs:
@@ -53,46 +53,16 @@ class FakeDialogs:
         self.infos.append((title, text))
 
 
-class StandInCanvas(QLabel):
-    """Stands in for CanvasView until (or where) it cannot be imported."""
-
-    def __init__(self, controller) -> None:
-        super().__init__("canvas")
-        self.controller = controller
-        self.fitted = 0
-
-    def zoom_to_fit(self) -> None:
-        self.fitted += 1
+def stand_in_components(controller, window) -> CanvasParts:
+    """Minimal canvas parts (a label, a bare player, an empty bar) for tests of the shell alone."""
+    return CanvasParts(QLabel("canvas"), QObject(), QWidget(), tools=[QAction("Select", window)])
 
 
-class StandInPlayer(QObject):
-    def __init__(self, controller) -> None:
-        super().__init__()
-        self.controller = controller
+def app_components(controller, window) -> CanvasParts:
+    """The app's real canvas parts (the tests drive the shell with them)."""
+    from mechsketch.gui.app import canvas_parts
 
-    def stop(self) -> None:
-        pass
-
-
-def stand_in_components() -> Components:
-    return Components(
-        canvas=StandInCanvas,
-        player=StandInPlayer,
-        scrubbar=lambda controller, player: QWidget(),
-        tool_actions=lambda view, parent: [QAction("Select", parent)],
-        snap_action=lambda view, parent: None,
-        player_actions=lambda player, parent: [],
-    )
-
-
-def app_components() -> Components:
-    """The real components when the canvas modules exist, else the stand-ins."""
-    try:
-        from mechsketch.gui.app import default_components
-
-        return default_components()
-    except ImportError:
-        return stand_in_components()
+    return canvas_parts(controller, window)
 
 
 @pytest.fixture
@@ -107,7 +77,7 @@ def shell(qtbot, tmp_path):
         kwargs.setdefault("dialogs", FakeDialogs())
         kwargs.setdefault("settings_path", tmp_path / "settings.ini")
         kwargs.setdefault("state_dir", tmp_path / "state")
-        kwargs.setdefault("components", app_components())
+        kwargs.setdefault("components", app_components)
         kwargs.setdefault("offer_recovery", False)
         parts = build(scene_path, **kwargs)
         qtbot.addWidget(parts.window)

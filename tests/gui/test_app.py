@@ -86,16 +86,6 @@ def test_delete_a_joint_is_one_undo_step_and_a_broken_linkage_is_a_message(shell
     assert "cannot solve" in w.diagnostics.plain_text()
 
 
-def test_delete_refuses_the_ground_and_the_driver(shell):
-    parts = shell()
-    c = parts.controller
-    before = c.scene
-    c.set_selection([("fourbar", "link", "crank")])
-    assert parts.window.delete_selection() is False
-    assert c.scene == before and not c.is_dirty
-    assert "cannot delete crank" in parts.window.statusBar().currentMessage()
-
-
 def test_zoom_to_fit_reaches_the_canvas(shell):
     parts = shell()
     canvas = parts.window.canvas

@@ -112,7 +112,7 @@ CRASH = textwrap.dedent("""
     from mechsketch.core import MoveJoint
     from mechsketch.gui.app import build
     from app_fakes import FakeDialogs, stand_in_components
-    parts = build(dialogs=FakeDialogs(), components=stand_in_components(), offer_recovery=False)
+    parts = build(dialogs=FakeDialogs(), components=stand_in_components, offer_recovery=False)
     parts.controller.push(MoveJoint("fourbar", "B", (23.0, 31.0)), "move joint B")
     assert parts.autosave.save_now()
     os._exit(3)   # a crash: no clean exit, the recovery file stays
