@@ -121,7 +121,7 @@ class ScrubTrack(QWidget):
             return
         k = self.frame_at(e.position().x())
         if self._dragging:
-            reached, blocked = walk_to(valid, self.controller.frame, k)
+            reached, blocked = walk_to(valid, self.controller.frame, k, cyclic=False)
             self.controller.set_frame(reached)
             if blocked:
                 self.controller.message.emit("the linkage cannot be assembled there: the scrub bar stops at "

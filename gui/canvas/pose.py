@@ -327,23 +327,22 @@ def _walk(valid: np.ndarray, start: int, steps: int, direction: int) -> tuple[in
     return (int(path[first - 1]) if first else start), True
 
 
-def walk_to(valid: np.ndarray, start: int, target: int) -> tuple[int, bool]:
+def walk_to(valid: np.ndarray, start: int, target: int, cyclic: bool = True) -> tuple[int, bool]:
     """Move from ``start`` towards ``target`` through valid samples only.
 
-    Takes the shorter way round the cycle unless an infeasible gap blocks it and the other way is
-    free. Returns ``(index reached, blocked)``; when blocked the index is the last valid sample
-    before the gap (a reachable limit), never a sample beyond it.
+    ``cyclic``: the shorter way round the cycle (a crank follows the mouse); otherwise straight
+    along the sample index (a scrub bar). Returns ``(index reached, blocked)``; when blocked the
+    index is the last valid sample before the gap (a reachable limit), never one beyond it.
     """
     n = len(valid)
     if n == 0:
         return 0, False
     start, target = start % n, target % n
-    fwd = (target - start) % n
-    if fwd == 0:
+    if target == start:
         return start, False
-    ways = sorted([(fwd, 1), (n - fwd, -1)])
-    first = _walk(valid, start, *ways[0])
-    if not first[1]:
-        return first
-    second = _walk(valid, start, *ways[1])
-    return second if not second[1] else first
+    if cyclic:
+        fwd = (target - start) % n
+        steps, direction = (fwd, 1) if fwd <= n - fwd else (n - fwd, -1)
+    else:
+        steps, direction = abs(target - start), (1 if target > start else -1)
+    return _walk(valid, start, steps, direction)
