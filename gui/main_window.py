@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable
 
-from PySide6.QtCore import QObject, Qt
+from PySide6.QtCore import QObject, Qt, QTimer
 from PySide6.QtGui import QAction, QCloseEvent, QKeySequence
 from PySide6.QtWidgets import QDockWidget, QLabel, QMainWindow, QMenu, QVBoxLayout, QWidget
 
@@ -87,8 +87,7 @@ class MainWindow(QMainWindow):
             "diagnostics": self._dock("Diagnostics", self.diagnostics, Qt.DockWidgetArea.LeftDockWidgetArea),
             "plots": self._dock("Plots", self.plots, Qt.DockWidgetArea.RightDockWidgetArea),
         }
-        self.resizeDocks([self.docks["properties"], self.docks["plots"]], [330, 430], Qt.Orientation.Horizontal)
-        self.resizeDocks([self.docks["properties"], self.docks["diagnostics"]], [470, 330], Qt.Orientation.Vertical)
+        self._docks_sized = False
 
         # -- actions, menus, toolbar, status bar --------------------------------------------
         self._make_actions()
@@ -281,6 +280,21 @@ class MainWindow(QMainWindow):
         self.dialogs.info("About mechsketch",
                           f"mechsketch {v}\nDesktop CAD for planar mechanisms: linkages solved by Assur "
                           "groups in closed form, Geneva drives, rolling levers, DXF export.")
+
+    def showEvent(self, event) -> None:  # noqa: N802 - Qt override
+        super().showEvent(event)
+        if not self._docks_sized:  # dock sizes only stick once the window is laid out
+            self._docks_sized = True
+            QTimer.singleShot(0, self.size_docks)
+
+    def size_docks(self) -> None:
+        """Share the width between the docks and the canvas (about 1 : 2.4 : 1.6)."""
+        side = max(290, min(340, self.width() // 5))
+        plots = max(420, min(560, self.width() * 3 // 10))
+        self.resizeDocks([self.docks["properties"], self.docks["plots"]], [side, plots],
+                         Qt.Orientation.Horizontal)
+        self.resizeDocks([self.docks["properties"], self.docks["diagnostics"]],
+                         [self.height() * 11 // 20, self.height() * 9 // 20], Qt.Orientation.Vertical)
 
     # -- closing -----------------------------------------------------------------------------
     def closeEvent(self, event: QCloseEvent) -> None:  # noqa: N802 - Qt override

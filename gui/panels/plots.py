@@ -115,6 +115,24 @@ def plot_data(controller: SceneController) -> PlotData:
     return data
 
 
+def robust_range(arrays: list[np.ndarray], tail: float = 0.5) -> tuple[float, float] | None:
+    """A y range showing the curves without letting a spike near a toggle (ω, ε → ∞) flatten
+    everything else: the full range, or the central 100 − 2·``tail`` percent of the values
+    widened by half its span when a few extreme values lie beyond that. None: no finite value."""
+    if not arrays:
+        return None
+    values = np.concatenate([np.asarray(a, dtype=float).ravel() for a in arrays])
+    values = values[np.isfinite(values)]
+    if values.size == 0:
+        return None
+    lo, hi = float(values.min()), float(values.max())
+    plo, phi = (float(v) for v in np.percentile(values, [tail, 100.0 - tail]))
+    span = phi - plo
+    if span > 0 and (hi - lo) > 4.0 * span:
+        return plo - 0.5 * span, phi + 0.5 * span
+    return lo, hi if hi > lo else lo + 1.0
+
+
 class PlotsPanel(QWidget):
     """Docked kinematic plots with a cursor synced to ``controller.frame``."""
 
@@ -185,6 +203,7 @@ class PlotsPanel(QWidget):
             if name in data.labels:
                 plot.setLabel("left", data.labels[name])
         self.curves.clear()
+        ranges: dict[str, list[np.ndarray]] = {}
         counts: dict[str, int] = {}
         for s in data.series:
             k = counts.get(s.plot, 0)
@@ -192,6 +211,13 @@ class PlotsPanel(QWidget):
             curve = self.plots[s.plot].plot(data.x, s.y, pen=pg.mkPen(COLORS[k % len(COLORS)], width=1.5),
                                             name=f"{s.name} ({s.unit})", connect="finite")
             self.curves[s.name] = curve
+            ranges.setdefault(s.plot, []).append(s.y)
+        for name, plot in self.plots.items():
+            lo_hi = robust_range(ranges.get(name, []))
+            if lo_hi is None:
+                plot.enableAutoRange(axis="y")
+            else:
+                plot.setYRange(*lo_hi, padding=0.05)
         self._move_cursor(self.controller.frame)
 
     def _move_cursor(self, frame: int) -> None:

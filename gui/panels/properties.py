@@ -66,6 +66,7 @@ class PropertiesPanel(QWidget):
         scroll.setFrameShape(QFrame.Shape.NoFrame)
         scroll.setWidget(self._content)
         layout = QVBoxLayout(self)
+        layout.setContentsMargins(4, 4, 4, 4)
         layout.addWidget(self.selector)
         layout.addWidget(scroll)
         #: editable fields by name ("x", "y", "axis", "length:B-C", "speed"), for tests and refresh
@@ -184,6 +185,7 @@ class PropertiesPanel(QWidget):
         """A number field: shows ``read()``; Enter (or leaving it) with a new value calls ``write``."""
         edit = QLineEdit()
         edit.setObjectName(name)
+        edit.setMinimumWidth(70)
         self.fields[name] = edit
         shown = {"text": ""}
 
@@ -299,7 +301,8 @@ class PropertiesPanel(QWidget):
         form.addRow("", omega)
         direction = QComboBox()
         direction.setObjectName("direction")
-        direction.addItems(["counter-clockwise (CCW)", "clockwise (CW)"])
+        direction.addItems(["CCW", "CW"])
+        direction.setToolTip("turning sense of the driver: counter-clockwise (CCW) or clockwise (CW)")
         self.direction = direction
 
         def show_direction() -> None:
