@@ -41,6 +41,7 @@ BAD = QColor("#d62728")
 GHOST = QColor("#1e88e5")
 JOINT_R = 4.5          # px
 LABEL_PX = 11          # px
+TRACE_STEP_PX = 1.5    # traced paths keep about one point per this many pixels
 
 
 def _pen(color: QColor, width: float, style: Qt.PenStyle = Qt.PenStyle.SolidLine,
@@ -310,15 +311,41 @@ class LinkageItem(_Item):
               -8.0, -36.0, BAD, LABEL_PX)
 
 
-def _path(xy: np.ndarray, close: bool = False) -> QPainterPath:
-    """A QPainterPath through the (N, 2) points; NaN rows break it."""
+def decimate(xy: np.ndarray, step: float) -> np.ndarray:
+    """Drop points of an (N, 2) path closer than ``step`` (mm, along the path) to the last kept
+    one; the ends of every finite run and one NaN row between runs are kept."""
+    n = len(xy)
+    if n < 3 or step <= 0:
+        return xy
+    fin = np.isfinite(xy).all(axis=1)
+    with np.errstate(invalid="ignore"):
+        d = np.hypot(*np.diff(xy, axis=0).T)
+    s = np.concatenate(([0.0], np.cumsum(np.where(np.isfinite(d), d, 0.0))))
+    bucket = np.floor(s / step)
+    keep = np.ones(n, dtype=bool)
+    keep[1:] = bucket[1:] != bucket[:-1]
+    change = fin[1:] != fin[:-1]
+    keep[1:] |= change
+    keep[:-1] |= change
+    keep[0] = keep[-1] = True
+    keep &= fin | np.concatenate(([True], change)) | np.concatenate((change, [True]))
+    return xy[keep]
+
+
+def _path(xy: np.ndarray, close: bool = False, step: float = 0.0) -> QPainterPath:
+    """A QPainterPath through the (N, 2) points (decimated to ``step`` mm); NaN rows break it."""
     if close and np.isfinite(xy).all() and len(xy) > 2:
         xy = np.vstack([xy, xy[:1]])
+    xy = decimate(xy, step)
     return arrayToQPath(np.ascontiguousarray(xy[:, 0]), np.ascontiguousarray(xy[:, 1]), connect="finite")
 
 
 class TraceItem(_Item):
-    """Traced joint paths and the driver circle (red where the linkage cannot be assembled)."""
+    """Traced joint paths and the driver circle (red where the linkage cannot be assembled).
+
+    Paths are decimated to about one point per :data:`TRACE_STEP_PX` screen pixels (rebuilt when
+    the zoom changes much): thousands of sub-pixel segments cost paint time and show nothing.
+    """
 
     PAD_PX = 6.0
 
@@ -327,24 +354,34 @@ class TraceItem(_Item):
         self.traces: list[QPainterPath] = []
         self.circle_ok = QPainterPath()
         self.circle_bad = QPainterPath()
+        self._data: tuple[ElementPose, list[str]] | None = None
+        self._built_px = 0.0
         self.setZValue(2)
+
+    def set_px(self, px: float) -> None:
+        super().set_px(px)
+        if self._data is not None and not (0.67 < px / (self._built_px or px) < 1.5):
+            self.set_data(*self._data)
 
     def set_data(self, pose: ElementPose, traced: list[str]) -> None:
         """Paths of ``traced`` joints over the cycle of ``pose.arrays`` (nothing if unsolved)."""
         arrays = pose.arrays
+        self._data = (pose, list(traced))
+        self._built_px = self._px
+        step = TRACE_STEP_PX * self._px
         self.traces, self.circle_ok, self.circle_bad = [], QPainterPath(), QPainterPath()
         core = QRectF()
         if arrays is not None:
             for jid in traced:
                 if jid in arrays.pos:
-                    p = _path(arrays.pos[jid], close=True)
+                    p = _path(arrays.pos[jid], close=True, step=step)
                     self.traces.append(p)
                     core = core.united(p.boundingRect())
-            self._circle(pose, arrays)
+            self._circle(pose, arrays, step)
             core = core.united(self.circle_ok.boundingRect()).united(self.circle_bad.boundingRect())
         self._bounds(core)
 
-    def _circle(self, pose: ElementPose, arrays: SolutionArrays) -> None:
+    def _circle(self, pose: ElementPose, arrays: SolutionArrays, step: float) -> None:
         lk = pose.linkage
         drv = lk.driver
         try:
@@ -357,11 +394,11 @@ class TraceItem(_Item):
         xy = np.column_stack([c.real + r * np.cos(th), c.imag + r * np.sin(th)])
         valid = arrays.valid
         ok = np.where(valid[:, None], xy, np.nan)
-        self.circle_ok = _path(ok, close=bool(valid.all()))
+        self.circle_ok = _path(ok, close=bool(valid.all()), step=step)
         if not valid.all():
             bad = ~valid
             grown = bad | np.roll(bad, 1) | np.roll(bad, -1)
-            self.circle_bad = _path(np.where(grown[:, None], xy, np.nan))
+            self.circle_bad = _path(np.where(grown[:, None], xy, np.nan), step=step)
 
     def paint(self, painter: QPainter, option: QStyleOptionGraphicsItem, widget: QWidget | None = None) -> None:
         painter.setRenderHint(QPainter.RenderHint.Antialiasing, True)
