@@ -34,6 +34,19 @@ def _reject_constant(name: str) -> Any:
     raise ValueError(f"{name} is not a number JSON allows")
 
 
+def _parse_json(text: str) -> tuple[Any, list[Problem]]:
+    """Parse JSON text; syntax errors name the line and column, deep nesting is a problem."""
+    try:
+        return json.loads(text, parse_constant=_reject_constant), []
+    except RecursionError:
+        return None, [Problem("$", "JSON nested too deeply")]
+    except ValueError as exc:  # json.JSONDecodeError is a ValueError, as is _reject_constant's
+        line = getattr(exc, "lineno", None)
+        where = f" (line {line}, column {exc.colno})" if line else ""
+        msg = exc.msg if hasattr(exc, "msg") else str(exc)
+        return None, [Problem("$", f"not valid JSON{where}: {msg}")]
+
+
 def _json_path(parts) -> str:
     out = "$"
     for p in parts:
@@ -143,15 +156,7 @@ def read_scene_text(path: str | os.PathLike) -> tuple[Any, list[Problem]]:
         text = raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
         return None, [Problem("$", f"not UTF-8 text (byte {exc.start}): not a JSON scene file")]
-    try:
-        return json.loads(text, parse_constant=_reject_constant), []
-    except RecursionError:
-        return None, [Problem("$", "JSON nested too deeply")]
-    except ValueError as exc:  # json.JSONDecodeError is a ValueError, as is _reject_constant's
-        line = getattr(exc, "lineno", None)
-        where = f" (line {line}, column {exc.colno})" if line else ""
-        msg = exc.msg if hasattr(exc, "msg") else str(exc)
-        return None, [Problem("$", f"not valid JSON{where}: {msg}")]
+    return _parse_json(text)
 
 
 def validate_file(path: str | os.PathLike) -> list[Problem]:
@@ -174,10 +179,9 @@ def load_scene(path: str | os.PathLike) -> Scene:
 
 def loads_scene(text: str, source: str = "scene") -> Scene:
     """Parse scene JSON text (see :func:`load_scene`)."""
-    try:
-        doc = json.loads(text, parse_constant=_reject_constant)
-    except ValueError as exc:
-        raise SceneFormatError([Problem("$", f"not valid JSON: {exc}")], source) from None
+    doc, problems = _parse_json(text)
+    if problems:
+        raise SceneFormatError(problems, source)
     scene, problems = scene_from_dict(doc, source)
     if scene is None:
         raise SceneFormatError(problems, source)
