@@ -30,17 +30,14 @@ def _schema(name: str) -> dict:
     return resources.schema(name)
 
 
-def _reject_constant(name: str) -> Any:
-    raise ValueError(f"{name} is not a number JSON allows")
-
-
 def _parse_json(text: str) -> tuple[Any, list[Problem]]:
-    """Parse JSON text; syntax errors name the line and column, deep nesting is a problem."""
+    """Parse JSON text. NaN/Infinity are read as floats so that the finite check can name their
+    JSON path and id; syntax errors name the line and column; deep nesting is a problem."""
     try:
-        return json.loads(text, parse_constant=_reject_constant), []
+        return json.loads(text, parse_constant=float), []
     except RecursionError:
         return None, [Problem("$", "JSON nested too deeply")]
-    except ValueError as exc:  # json.JSONDecodeError is a ValueError, as is _reject_constant's
+    except ValueError as exc:  # json.JSONDecodeError, or an integer literal of > 4300 digits
         line = getattr(exc, "lineno", None)
         where = f" (line {line}, column {exc.colno})" if line else ""
         msg = exc.msg if hasattr(exc, "msg") else str(exc)
@@ -54,15 +51,26 @@ def _json_path(parts) -> str:
     return out
 
 
-def _nonfinite(obj: Any, path: str, out: list[Problem]) -> None:
-    if isinstance(obj, float) and not math.isfinite(obj):
-        out.append(Problem(path, f"number must be finite, got {obj}"))
-    elif isinstance(obj, dict):
-        for k, v in obj.items():
-            _nonfinite(v, f"{path}.{k}", out)
-    elif isinstance(obj, list):
-        for i, v in enumerate(obj):
-            _nonfinite(v, f"{path}[{i}]", out)
+def _own_id(obj: Any, inherited: str | None) -> str | None:
+    """The id a problem inside ``obj`` is about: obj's own string id, else the enclosing one."""
+    if isinstance(obj, dict) and isinstance(obj.get("id"), str):
+        return obj["id"]
+    return inherited
+
+
+def _nonfinite(obj: Any, path: str, out: list[Problem], id: str | None = None) -> None:
+    """Report NaN and ±Infinity with their path and the id of the innermost object carrying one
+    (iterative: deep nesting cannot overflow the stack)."""
+    stack = [(obj, path, id)]
+    while stack:
+        obj, path, id = stack.pop()
+        if isinstance(obj, float) and not math.isfinite(obj):
+            out.append(Problem(path, f"number must be finite, got {obj}", id))
+        elif isinstance(obj, dict):
+            inner = _own_id(obj, id)
+            stack.extend((v, f"{path}.{k}", inner) for k, v in reversed(list(obj.items())))
+        elif isinstance(obj, list):
+            stack.extend((v, f"{path}[{i}]", id) for i, v in reversed(list(enumerate(obj))))
 
 
 def _schema_problems(schema: dict, data: Any, base: str, id: str | None) -> list[Problem]:
