@@ -8,6 +8,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import sys
 import tempfile
 from pathlib import Path
 from typing import Any, Callable
@@ -59,13 +60,16 @@ def _own_id(obj: Any, inherited: str | None) -> str | None:
 
 
 def _nonfinite(obj: Any, path: str, out: list[Problem], id: str | None = None) -> None:
-    """Report NaN and ±Infinity with their path and the id of the innermost object carrying one
-    (iterative: deep nesting cannot overflow the stack)."""
+    """Report NaN, ±Infinity and integers too large for a float, with their path and the id of
+    the innermost object carrying one (iterative: deep nesting cannot overflow the stack)."""
     stack = [(obj, path, id)]
     while stack:
         obj, path, id = stack.pop()
         if isinstance(obj, float) and not math.isfinite(obj):
             out.append(Problem(path, f"number must be finite, got {obj}", id))
+        elif isinstance(obj, int) and not isinstance(obj, bool) and abs(obj) > sys.float_info.max:
+            out.append(Problem(path, f"number must be finite, got an integer of {len(str(abs(obj)))} digits "
+                                     "(too large for a float)", id))
         elif isinstance(obj, dict):
             inner = _own_id(obj, id)
             stack.extend((v, f"{path}.{k}", inner) for k, v in reversed(list(obj.items())))
