@@ -31,6 +31,10 @@ def _schema(name: str) -> dict:
     return resources.schema(name)
 
 
+#: longest message text kept from a schema error (they quote the offending value)
+MAX_MESSAGE = 240
+
+
 def _parse_json(text: str) -> tuple[Any, list[Problem]]:
     """Parse JSON text. NaN/Infinity are read as floats so that the finite check can name their
     JSON path and id; syntax errors name the line and column; deep nesting is a problem."""
@@ -78,6 +82,7 @@ def _nonfinite(obj: Any, path: str, out: list[Problem], id: str | None = None) -
 
 
 def _schema_problems(schema: dict, data: Any, base: str, id: str | None) -> list[Problem]:
+    """Schema findings, each with its JSON path and the id of the innermost object carrying one."""
     validator = jsonschema.Draft202012Validator(schema)
     out = []
     for err in sorted(validator.iter_errors(data), key=lambda e: list(map(str, e.absolute_path))):
@@ -85,7 +90,16 @@ def _schema_problems(schema: dict, data: Any, base: str, id: str | None) -> list
         msg = err.message
         if err.validator == "additionalProperties":
             msg = msg.replace("Additional properties are not allowed", "unknown key(s)")
-        out.append(Problem(where, msg, id))
+        if len(msg) > MAX_MESSAGE:  # keep the head (quoted value) and the tail (what is wrong)
+            msg = msg[:MAX_MESSAGE // 2] + " … " + msg[-MAX_MESSAGE // 2:]
+        who, node = _own_id(data, id), data
+        for key in err.absolute_path:
+            try:
+                node = node[key]
+            except (KeyError, IndexError, TypeError):
+                break
+            who = _own_id(node, who)
+        out.append(Problem(where, msg, who))
     return out
 
 
