@@ -152,6 +152,8 @@ class PlotsPanel(QWidget):
         for row, (name, label) in enumerate(PLOTS):
             plot = self.graphics.addPlot(row=row, col=0)
             plot.showGrid(x=True, y=True, alpha=0.25)
+            for axis in ("left", "bottom"):  # major ticks only: the minor grid halves the drag frame rate
+                plot.getAxis(axis).setStyle(maxTickLevel=0)
             plot.setLabel("left", label)
             plot.addLegend(offset=(-10, 5), labelTextSize="8pt", brush=pg.mkBrush(255, 255, 255, 210),
                            pen=pg.mkPen("#ccc"))
@@ -168,6 +170,7 @@ class PlotsPanel(QWidget):
         layout.addLayout(self._header)
         layout.addWidget(self.graphics, 1)
         self.data = PlotData("")
+        self._keys: list[tuple[str, str, str]] | None = None
         self._stale = True
         controller.solutionsChanged.connect(self._invalidate)
         controller.selectionChanged.connect(self._invalidate)
@@ -197,20 +200,27 @@ class PlotsPanel(QWidget):
         self._stale = False
         self.data = data = plot_data(self.controller)
         self.title.setText(data.title)
-        for name, plot in self.plots.items():
-            for item in list(plot.listDataItems()):
-                plot.removeItem(item)
-            if name in data.labels:
-                plot.setLabel("left", data.labels[name])
-        self.curves.clear()
+        keys = [(x.plot, x.name, x.unit) for x in data.series]
+        if keys != self._keys:  # other curves: rebuild them (and the legends)
+            self._keys = keys
+            for plot in self.plots.values():
+                for item in list(plot.listDataItems()):
+                    plot.removeItem(item)
+            self.curves.clear()
+            counts: dict[str, int] = {}
+            for s in data.series:
+                k = counts.get(s.plot, 0)
+                counts[s.plot] = k + 1
+                self.curves[s.name] = self.plots[s.plot].plot(
+                    data.x, s.y, pen=pg.mkPen(COLORS[k % len(COLORS)], width=1), name=f"{s.name} ({s.unit})",
+                    connect="finite")
+            for name, plot in self.plots.items():
+                plot.setLabel("left", data.labels.get(name, dict(PLOTS)[name]))
+        else:  # same curves, new numbers (a drag): only the data changes
+            for s in data.series:
+                self.curves[s.name].setData(data.x, s.y, connect="finite")
         ranges: dict[str, list[np.ndarray]] = {}
-        counts: dict[str, int] = {}
         for s in data.series:
-            k = counts.get(s.plot, 0)
-            counts[s.plot] = k + 1
-            curve = self.plots[s.plot].plot(data.x, s.y, pen=pg.mkPen(COLORS[k % len(COLORS)], width=1.5),
-                                            name=f"{s.name} ({s.unit})", connect="finite")
-            self.curves[s.name] = curve
             ranges.setdefault(s.plot, []).append(s.y)
         for name, plot in self.plots.items():
             lo_hi = robust_range(ranges.get(name, []))
