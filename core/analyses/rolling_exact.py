@@ -1,0 +1,289 @@
+"""The exact rolling-lever synthesis: the ODE dα/dθ = 1 − g(α, θ)/ℓ with dS5/dθ = k53 = −t2.
+
+Integrator: the classical fourth-order Runge–Kutta scheme with step doubling. Every step is taken
+once whole and once as two halves; the difference of the contacts P and Q (mm) over 15 estimates
+the local error of the halved result, which is kept. A step is accepted when that estimate is
+below ``tol·|h|/|span|``, so the sum of local errors over the stroke stays below ``tol`` mm (the
+stated tolerance); the sum is reported as ``error_mm``. The scalar loop runs on plain Python
+floats (faster than numpy for one state). The mesh is chosen by the error control alone; values at
+any θ (the N + 1 output samples, DXF fitting, projections) come from the dense output
+(:meth:`ExactPath.at`): two vectorised half RK4 steps from the preceding mesh node, i.e. exactly
+what the integrator would have computed for a step ending there, so no less accurate than the mesh.
+
+The working range ends where the rocker line becomes tangent to the moved lever circle (the
+discriminant of pair D reaches 0: the paper's π6 for the *moved* lever), where the contact would
+pass behind the rocker pivot, or where the normal to the slider axis leaves the slider circle.
+:func:`working_range` finds both ends by marching with plain RK4 steps and halving the step at the
+boundary (the end is placed to about 1e-8 rad; the square-root singularity there is not worth more).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import GeometryError
+from .rolling_geometry import LeverGeometry, ScalarKernel, rot
+
+#: a lever rotation beyond one turn is never searched for a working-range end (rad)
+SEARCH_CAP = 2.0 * math.pi
+#: marching step and final resolution of the working-range search (rad)
+_LIMIT_STEP = 0.02
+_LIMIT_RESOLUTION = 1e-12
+
+
+class _OutOfRange(Exception):
+    """Internal: the march met the working-range boundary after ``theta`` (the last good state)."""
+
+    def __init__(self, theta: float, alpha: float, s5: float, reason: int) -> None:
+        super().__init__(theta)
+        self.theta, self.alpha, self.s5, self.reason = theta, alpha, s5, reason
+
+
+def _rk4(k: ScalarKernel, a: float, s: float, th: float, h: float):
+    """One RK4 step of (α, S5) over θ → θ + h; None if a stage leaves the working range."""
+    r1 = k.rhs(a, th)
+    if r1 is None:
+        return None
+    h2 = 0.5 * h
+    r2 = k.rhs(a + h2 * r1[0], th + h2)
+    if r2 is None:
+        return None
+    r3 = k.rhs(a + h2 * r2[0], th + h2)
+    if r3 is None:
+        return None
+    r4 = k.rhs(a + h * r3[0], th + h)
+    if r4 is None:
+        return None
+    h6 = h / 6.0
+    return (a + h6 * (r1[0] + 2.0 * r2[0] + 2.0 * r3[0] + r4[0]),
+            s + h6 * (r1[1] + 2.0 * r2[1] + 2.0 * r3[1] + r4[1]))
+
+
+@dataclass
+class _March:
+    """Mesh recorded by :func:`_march` (lists of floats), its error sum and evaluation count."""
+
+    theta: list
+    alpha: list
+    s5: list
+    error: float = 0.0
+    evaluations: int = 0
+
+
+def _march(k: ScalarKernel, m: _March, target: float, rate: float, h: float, hmin: float,
+           accept_below: float = 0.0, hmax: float = 0.05) -> float:
+    """Advance the mesh ``m`` from its last state to θ = ``target`` with step doubling.
+
+    ``rate``: allowed local error per radian (mm/rad); steps shorter than ``accept_below`` are
+    accepted whatever their error; no step is longer than ``hmax`` (rad). Returns the last step size. Raises :class:`_OutOfRange` when a
+    step no longer than ``hmin`` still leaves the working range.
+    """
+    th, a, s = m.theta[-1], m.alpha[-1], m.s5[-1]
+    floor = 16.0 * np.finfo(float).eps * max(k.ell, 1.0)  # round-off level of one step (mm)
+    direction = 1.0 if target > th else -1.0
+    while (target - th) * direction > 0.0:
+        step = min(abs(h), hmax, abs(target - th))
+        last = step == abs(target - th)
+        hs = direction * step
+        m.evaluations += 14
+        k.reason = 0
+        full = _rk4(k, a, s, th, hs)
+        half = _rk4(k, a, s, th, 0.5 * hs)
+        half = _rk4(k, half[0], half[1], th + 0.5 * hs, 0.5 * hs) if half is not None else None
+        cf = k.contacts(full[0], full[1], th + hs) if full is not None else None
+        ch = k.contacts(half[0], half[1], th + hs) if half is not None else None
+        if cf is None or ch is None:
+            if step <= hmin:
+                raise _OutOfRange(th, a, s, k.reason)
+            h = 0.25 * step
+            continue
+        err = max(math.hypot(cf[0] - ch[0], cf[1] - ch[1]), math.hypot(cf[2] - ch[2], cf[3] - ch[3])) / 15.0
+        allowed = max(rate * step, floor)
+        if err > allowed and step > max(hmin, accept_below):
+            h = step * max(0.1, 0.9 * (allowed / err) ** 0.2)
+            continue
+        a, s = half
+        th = float(target) if last else th + hs
+        m.error += err
+        m.theta.append(th)
+        m.alpha.append(a)
+        m.s5.append(s)
+        h = step * (4.0 if err == 0.0 else min(4.0, 0.9 * (allowed / err) ** 0.2))
+    return h
+
+
+@dataclass(frozen=True)
+class WorkingRange:
+    """Reachable lever rotations θ ∈ [lower, upper] (rad) from the drawn pose, and why each ends.
+
+    A reason is None when no end was found within one turn (|θ| ≤ 2π).
+    """
+
+    lower: float
+    upper: float
+    lower_reason: str | None
+    upper_reason: str | None
+
+    def contains(self, theta: float) -> bool:
+        return self.lower <= theta <= self.upper
+
+    def describe(self) -> str:
+        def end(th, why):
+            return f"{th:.6f} rad ({why})" if why else f"{th:.6f} rad (searched no further)"
+        return f"θ ∈ [{end(self.lower, self.lower_reason)}, {end(self.upper, self.upper_reason)}]"
+
+
+def march_limit(geom: LeverGeometry, theta: float, alpha: float, s5: float, direction: float
+                ) -> tuple[float, str | None]:
+    """March from the state (θ, α, S5) in ``direction`` (±1) to the end of the working range.
+
+    Plain RK4 steps of ``_LIMIT_STEP`` rad (α error ~1e-9 rad, enough to place the end), halved
+    each time a step would leave the range, down to ``_LIMIT_RESOLUTION``. Returns (θ_end, reason);
+    the reason is None if no end was met within |θ| ≤ 2π.
+    """
+    k = ScalarKernel(geom)
+    a, s, th = alpha, s5, theta
+    h = direction * _LIMIT_STEP
+    cap = direction * SEARCH_CAP
+    reason = None
+    while abs(h) > _LIMIT_RESOLUTION:
+        if (th + h - cap) * direction > 0.0:
+            if abs(cap - th) <= _LIMIT_RESOLUTION:
+                return cap, None
+            h = cap - th
+        k.reason = 0
+        y = _rk4(k, a, s, th, h)
+        if y is None or k.rhs(y[0], th + h) is None:
+            reason = ScalarKernel.REASONS.get(k.reason)
+            h *= 0.5
+            continue
+        a, s = y
+        th += h
+    return th, reason
+
+
+def working_range(geom: LeverGeometry) -> WorkingRange:
+    """Both ends of the working range from the drawn pose (θ = 0), see :class:`WorkingRange`."""
+    k = ScalarKernel(geom)
+    if k.rhs(geom.alpha0, 0.0) is None:
+        raise GeometryError(f"the drawn pose is outside the working range: {ScalarKernel.REASONS[k.reason]}")
+    lo, lo_why = march_limit(geom, 0.0, geom.alpha0, 0.0, -1.0)
+    hi, hi_why = march_limit(geom, 0.0, geom.alpha0, 0.0, 1.0)
+    return WorkingRange(lo, hi, lo_why, hi_why)
+
+
+def rates(geom: LeverGeometry, alpha: np.ndarray, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(dα/dθ, dS5/dθ) of the exact ODE at poses (α, θ), (M,) each; NaN outside the working range."""
+    ca, sa = np.cos(alpha), np.sin(alpha)
+    F = np.stack([geom.G[0] + geom.ell * ca, geom.G[1] + geom.ell * sa], axis=-1)
+    f = np.asarray(geom.f)
+    w = F + rot(theta, np.asarray(geom.c1) - f) - np.asarray(geom.G)
+    b = w[:, 0] * ca + w[:, 1] * sa
+    d1 = b * b - (w[:, 0] ** 2 + w[:, 1] ** 2 - geom.R1 ** 2)
+    with np.errstate(invalid="ignore"):
+        g = b + geom.branch * np.sqrt(np.where(d1 > 0.0, d1, np.nan))
+    z = np.asarray(geom.G) + g[:, None] * np.stack([ca, sa], axis=-1) - (F + rot(theta, np.asarray(geom.c2) - f))
+    n = np.asarray(geom.n)
+    zn = z @ n
+    d2 = zn * zn - (z[:, 0] ** 2 + z[:, 1] ** 2) + geom.R2 ** 2
+    with np.errstate(invalid="ignore"):
+        t2 = -zn + geom.side * np.sqrt(np.where(d2 >= 0.0, d2, np.nan))
+    return 1.0 - g / geom.ell, -t2
+
+
+@dataclass
+class ExactPath:
+    """The integrated exact motion: the adaptive mesh (θ, α, S5) in integration order (rad, rad, mm).
+
+    ``error_mm`` is the sum of the local error estimates of P and Q (mm); ``evaluations`` counts
+    right-hand-side calls of the integration.
+    """
+
+    geom: LeverGeometry
+    theta: np.ndarray
+    alpha: np.ndarray
+    S5: np.ndarray
+    error_mm: float
+    evaluations: int
+
+    def base_index(self, theta_q: np.ndarray) -> np.ndarray:
+        """Index of the mesh node each θ (M,) is stepped from (the preceding node, clipped)."""
+        q = np.atleast_1d(np.asarray(theta_q, dtype=float))
+        th = self.theta
+        direction = 1.0 if th[-1] >= th[0] else -1.0
+        return np.clip(np.searchsorted(th * direction, q * direction, side="right") - 1, 0, len(th) - 2)
+
+    def at(self, theta_q: np.ndarray, base: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Dense output: (α, S5) at any θ (M,) rad in the integrated span, two half RK4 steps each.
+
+        ``base`` forces the mesh node each value is stepped from (smooth finite differences).
+        """
+        q = np.atleast_1d(np.asarray(theta_q, dtype=float))
+        j = self.base_index(q) if base is None else np.asarray(base)
+        a, s, t = self.alpha[j], self.S5[j], self.theta[j]
+        h = 0.5 * (q - t)
+        geom = self.geom
+        for _ in range(2):
+            k1 = rates(geom, a, t)
+            k2 = rates(geom, a + 0.5 * h * k1[0], t + 0.5 * h)
+            k3 = rates(geom, a + 0.5 * h * k2[0], t + 0.5 * h)
+            k4 = rates(geom, a + h * k3[0], t + h)
+            a = a + h / 6.0 * (k1[0] + 2.0 * k2[0] + 2.0 * k3[0] + k4[0])
+            s = s + h / 6.0 * (k1[1] + 2.0 * k2[1] + 2.0 * k3[1] + k4[1])
+            t = t + h
+        return a, s
+
+    @property
+    def span(self) -> tuple[float, float]:
+        return float(self.theta[0]), float(self.theta[-1])
+
+
+def integrate(geom: LeverGeometry, end: float, tol: float, start: tuple[float, float, float] | None = None,
+              max_step: float = 0.05) -> ExactPath:
+    """Integrate the exact ODE from ``start`` = (θ, α, S5) (default the drawn pose (0, α0, 0)) to θ = ``end``.
+
+    ``tol``: bound on the summed local error of P and Q over the span (mm); ``max_step`` (rad).
+    Raises :class:`_OutOfRange` (internal) when the span leaves the working range.
+    """
+    k = ScalarKernel(geom)
+    th, a, s = start if start is not None else (0.0, geom.alpha0, 0.0)
+    span = abs(end - th)
+    if span == 0.0:
+        raise ValueError("empty integration span")
+    if k.rhs(a, th) is None:
+        raise _OutOfRange(th, a, s, k.reason)
+    m = _March([th], [a], [s])
+    h0 = min(max_step, 0.01 * span)
+    _march(k, m, end, tol / span, h0, 1e-13 * max(1.0, span), hmax=max_step)
+    return ExactPath(geom, np.array(m.theta), np.array(m.alpha), np.array(m.s5), m.error, m.evaluations)
+
+
+def _beyond_message(geom: LeverGeometry, start: float, end: float, stop: _OutOfRange) -> str:
+    rng = working_range(geom)
+    why = ScalarKernel.REASONS.get(stop.reason, "the pose cannot be built")
+    return (f"the stroke θ from {start:g} to {end:g} rad goes beyond the working range: after θ ≈ "
+            f"{stop.theta:.6f} rad {why}. Reachable range from the drawn pose: {rng.describe()}")
+
+
+def exact_path(geom: LeverGeometry, start: float, end: float, tol: float) -> ExactPath:
+    """The exact motion over the stroke θ ∈ start → end (rad), integrated to ``tol`` mm.
+
+    When the stroke does not start at the drawn pose, θ = 0 → ``start`` is integrated first (to the
+    same tolerance) and only its end state kept. Raises :class:`GeometryError` with the reachable
+    range when the stroke leaves the working range.
+    """
+    try:
+        origin = None
+        lead = None
+        if start != 0.0:
+            lead = integrate(geom, start, tol)
+            origin = (start, float(lead.alpha[-1]), float(lead.S5[-1]))
+        path = integrate(geom, end, tol, start=origin)
+        if lead is not None:
+            path.error_mm += lead.error_mm
+            path.evaluations += lead.evaluations
+    except _OutOfRange as stop:
+        raise GeometryError(_beyond_message(geom, start, end, stop)) from None
+    return path

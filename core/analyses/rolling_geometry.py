@@ -1,0 +1,233 @@
+"""Geometry of the rolling lever in any pose (α, θ): the shared kernel of every synthesis method.
+
+Conventions (notes, section C): the rocker pivot G, rocker length ℓ = |f − G|, rocker angle α, the
+pin F = G + ℓ e(α), the lever rotation θ (0 in the drawn pose), and the lever map
+X(p) = F + Rot(θ)(p − f) taking a lever point p (drawn-pose coordinates, "lever frame") to the
+ground. Pair D: the contact P = G + g e(α) is the chosen intersection of the rocker line with the
+moved lever circle; the exact motion obeys dα/dθ = 1 − g/ℓ. Pair E: P0 = P + t2 n, n = J d_s, on
+the moved slider circle; k53 = dS5/dθ = −t2.
+
+Every function takes numpy arrays of shape (N,) for α and θ (radians) and returns (N,) or (N, 2)
+arrays in millimetres. Poses where a pair cannot be built give NaN (data, not exceptions).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..model.rolling_lever import RollingLever
+
+FloatArray = np.ndarray
+
+
+@dataclass(frozen=True)
+class LeverGeometry:
+    """The constants of a rolling lever (mm, rad) taken from the element's drawn pose."""
+
+    G: tuple[float, float]
+    f: tuple[float, float]
+    c1: tuple[float, float]
+    R1: float
+    c2: tuple[float, float]
+    R2: float
+    ds: tuple[float, float]  # unit slider direction
+    side: int  # +1 / −1: branch of the slider-circle intersection along n = J ds
+    branch: int  # −1 near, +1 far: branch of the rocker-line intersection
+    ell: float
+    alpha0: float
+
+    @classmethod
+    def from_element(cls, el: RollingLever) -> "LeverGeometry":
+        return cls(G=el.rocker_pivot, f=el.pin, c1=el.lever_circle.center, R1=el.lever_circle.radius,
+                   c2=el.slider_circle.center, R2=el.slider_circle.radius, ds=el.slider_axis,
+                   side=int(el.slider_side), branch=1 if el.contact_branch == "far" else -1,
+                   ell=el.rocker_length, alpha0=el.rocker_angle0)
+
+    @property
+    def n(self) -> tuple[float, float]:
+        """Unit normal of the slider axis, J d_s."""
+        return (-self.ds[1], self.ds[0])
+
+    @property
+    def scale(self) -> float:
+        """A length typical of the mechanism (mm), for relative tolerances."""
+        return max(self.ell, self.R1, self.R2)
+
+
+def rot(theta: FloatArray, v: FloatArray) -> FloatArray:
+    """Rotate vectors ``v`` (N, 2) or (2,) by angles ``theta`` (N,) rad -> (N, 2)."""
+    c, s = np.cos(theta), np.sin(theta)
+    v = np.asarray(v, dtype=float)
+    return np.stack([c * v[..., 0] - s * v[..., 1], s * v[..., 0] + c * v[..., 1]], axis=-1)
+
+
+def lever_map(geom: LeverGeometry, alpha: FloatArray, theta: FloatArray, p: FloatArray) -> FloatArray:
+    """X(p): lever points ``p`` (drawn-pose coordinates, (2,) or (N, 2) mm) in the ground, (N, 2) mm."""
+    alpha = np.asarray(alpha, dtype=float)
+    F = np.stack([geom.G[0] + geom.ell * np.cos(alpha), geom.G[1] + geom.ell * np.sin(alpha)], axis=-1)
+    return F + rot(theta, np.asarray(p, dtype=float) - np.asarray(geom.f))
+
+
+def to_lever_frame(geom: LeverGeometry, alpha: FloatArray, theta: FloatArray, X: FloatArray) -> FloatArray:
+    """Inverse of :func:`lever_map`: ground points X (N, 2) mm -> lever-frame points (N, 2) mm."""
+    alpha = np.asarray(alpha, dtype=float)
+    F = np.stack([geom.G[0] + geom.ell * np.cos(alpha), geom.G[1] + geom.ell * np.sin(alpha)], axis=-1)
+    return rot(-np.asarray(theta, dtype=float), X - F) + np.asarray(geom.f)
+
+
+@dataclass
+class PoseState:
+    """Everything about the lever in poses (α, θ), arrays over N poses (mm, rad).
+
+    ``D1``: discriminant of the rocker-line/lever-circle intersection (mm²; ≤ 0: rocker tangent or
+    missing the circle). ``D2``: the same for the slider normal and the slider circle. ``rate`` is
+    dα/dθ = 1 − g/ℓ of the exact motion. ``u1``/``u2``: contact angles on the lever circles in the
+    lever frame (rad, atan2). ``k53`` = −t2 (mm/rad).
+    """
+
+    alpha: FloatArray
+    theta: FloatArray
+    F: FloatArray
+    C1: FloatArray
+    D1: FloatArray
+    g: FloatArray
+    P: FloatArray
+    rate: FloatArray
+    u1: FloatArray
+    C2: FloatArray
+    D2: FloatArray
+    t2: FloatArray
+    P0: FloatArray
+    u2: FloatArray
+
+    @property
+    def k53(self) -> FloatArray:
+        return -self.t2
+
+
+def pose_state(geom: LeverGeometry, alpha: FloatArray, theta: FloatArray) -> PoseState:
+    """Contacts, rates and angles of both pairs for poses (α, θ), each (N,) rad; see :class:`PoseState`."""
+    alpha = np.atleast_1d(np.asarray(alpha, dtype=float))
+    theta = np.atleast_1d(np.asarray(theta, dtype=float))
+    alpha, theta = np.broadcast_arrays(alpha, theta)
+    e = np.stack([np.cos(alpha), np.sin(alpha)], axis=-1)
+    G = np.asarray(geom.G)
+    F = G + geom.ell * e
+    f = np.asarray(geom.f)
+    C1 = F + rot(theta, np.asarray(geom.c1) - f)
+    w = C1 - G
+    b = np.einsum("ij,ij->i", w, e)
+    D1 = b * b - (np.einsum("ij,ij->i", w, w) - geom.R1 ** 2)
+    with np.errstate(invalid="ignore"):
+        g = b + geom.branch * np.sqrt(np.where(D1 >= 0.0, D1, np.nan))
+    g = np.where(g > 0.0, g, np.nan)
+    P = G + g[:, None] * e
+    rate = 1.0 - g / geom.ell
+    r1 = rot(-theta, P - C1)
+    u1 = np.arctan2(r1[:, 1], r1[:, 0])
+    C2, D2, t2, P0, u2 = pair_e(geom, F, theta, P)
+    return PoseState(alpha, theta, F, C1, D1, g, P, rate, u1, C2, D2, t2, P0, u2)
+
+
+def pair_e(geom: LeverGeometry, F: FloatArray, theta: FloatArray, P: FloatArray):
+    """Pair E for lever poses (pin F (N, 2) mm, rotation θ (N,) rad) and pair-D contacts P (N, 2).
+
+    Returns (C2, D2, t2, P0, u2): the moved slider-circle centre (N, 2), the discriminant (N,) mm²,
+    the signed distance t2 = (P0 − P)·n (N,) mm (k53 = −t2), the contact P0 (N, 2) on the normal to
+    the slider axis through P, and its angle u2 on the slider circle in the lever frame (N,) rad.
+    NaN where the normal misses the circle.
+    """
+    C2 = F + rot(theta, np.asarray(geom.c2) - np.asarray(geom.f))
+    n = np.asarray(geom.n)
+    z = P - C2
+    zn = z @ n
+    D2 = zn * zn - np.einsum("ij,ij->i", z, z) + geom.R2 ** 2
+    with np.errstate(invalid="ignore"):
+        t2 = -zn + geom.side * np.sqrt(np.where(D2 >= 0.0, D2, np.nan))
+    P0 = P + t2[:, None] * n
+    r2 = rot(-theta, P0 - C2)
+    u2 = np.arctan2(r2[:, 1], r2[:, 0])
+    return C2, D2, t2, P0, u2
+
+
+def slider_point(geom: LeverGeometry, P0: FloatArray, S5: FloatArray) -> FloatArray:
+    """Q = P0 − S5 d_s: the contact of pair E in the slider frame (N, 2) mm."""
+    return np.asarray(P0) - np.asarray(S5)[:, None] * np.asarray(geom.ds)
+
+
+class ScalarKernel:
+    """The exact ODE's right-hand side for one pose, in plain floats (fast inside a Python loop).
+
+    ``rhs(α, θ)`` returns (dα/dθ, dS5/dθ) or None outside the working range; ``reason`` then names
+    the pair that failed. ``contacts(α, S5, θ)`` returns (P.x, P.y, Q.x, Q.y) in mm.
+    """
+
+    REASONS = {1: "the rocker line becomes tangent to the moved lever circle",
+               2: "the contact point reaches the rocker pivot",
+               3: "the normal to the slider axis through the contact leaves the slider circle"}
+
+    def __init__(self, geom: LeverGeometry) -> None:
+        self.gx, self.gy = geom.G
+        self.ell = geom.ell
+        self.v1 = (geom.c1[0] - geom.f[0], geom.c1[1] - geom.f[1])
+        self.v2 = (geom.c2[0] - geom.f[0], geom.c2[1] - geom.f[1])
+        self.r1sq = geom.R1 ** 2
+        self.r2sq = geom.R2 ** 2
+        self.branch = float(geom.branch)
+        self.side = float(geom.side)
+        self.nx, self.ny = geom.n
+        self.dsx, self.dsy = geom.ds
+        self.reason = 0
+
+    def _pair_d(self, a: float, th: float):
+        ca, sa = math.cos(a), math.sin(a)
+        ct, st = math.cos(th), math.sin(th)
+        fx = self.gx + self.ell * ca
+        fy = self.gy + self.ell * sa
+        wx = fx + ct * self.v1[0] - st * self.v1[1] - self.gx
+        wy = fy + st * self.v1[0] + ct * self.v1[1] - self.gy
+        b = wx * ca + wy * sa
+        d1 = b * b - (wx * wx + wy * wy - self.r1sq)
+        if not d1 > 0.0:
+            self.reason = 1
+            return None
+        g = b + self.branch * math.sqrt(d1)
+        if not g > 0.0:
+            self.reason = 2
+            return None
+        return g, ca, sa, ct, st, fx, fy
+
+    def _t2(self, g, ca, sa, ct, st, fx, fy):
+        px = self.gx + g * ca
+        py = self.gy + g * sa
+        zx = px - (fx + ct * self.v2[0] - st * self.v2[1])
+        zy = py - (fy + st * self.v2[0] + ct * self.v2[1])
+        zn = zx * self.nx + zy * self.ny
+        d2 = zn * zn - (zx * zx + zy * zy) + self.r2sq
+        if d2 < 0.0:
+            self.reason = 3
+            return None
+        return -zn + self.side * math.sqrt(d2), px, py
+
+    def rhs(self, a: float, th: float) -> tuple[float, float] | None:
+        """(dα/dθ, dS5/dθ) at the pose, or None outside the working range."""
+        d = self._pair_d(a, th)
+        if d is None:
+            return None
+        e = self._t2(*d)
+        if e is None:
+            return None
+        return 1.0 - d[0] / self.ell, -e[0]
+
+    def contacts(self, a: float, s5: float, th: float) -> tuple[float, float, float, float] | None:
+        """(P.x, P.y, Q.x, Q.y) in mm, or None outside the working range."""
+        d = self._pair_d(a, th)
+        if d is None:
+            return None
+        e = self._t2(*d)
+        if e is None:
+            return None
+        t2, px, py = e
+        return px, py, px + t2 * self.nx - s5 * self.dsx, py + t2 * self.ny - s5 * self.dsy

@@ -1,0 +1,245 @@
+"""The authored rolling-lever element (pure-rolling profiles after Dvornikov & Maksimova).
+
+Everything is given in the drawn pose ("position 1"), in millimetres; the lever's rotation θ is 0
+there and the stroke runs over θ (rad, counter-clockwise positive). The lever carries two circles:
+``lever_circle`` (Π3п, rolling on the frame profile, pair D) and ``slider_circle`` (Π30, rolling on
+the slider profile, pair E), the pin ``pin`` of the rocker whose ground pivot is ``rocker_pivot``.
+The profiles themselves are derived (synthesised), never stored: see
+:mod:`mechsketch.core.analyses.rolling_synthesis`.
+
+``parse`` checks what the schema cannot: the rocker line meets the lever circle in the drawn pose,
+the chosen contact lies on the ray from the pivot, the normal to the slider axis through the contact
+reaches the slider circle, the stroke is not empty, the drive points are distinct.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+from ..errors import Problem
+
+SCHEMA = "rolling_lever.schema.json"
+
+XYTuple = tuple[float, float]
+
+#: defaults of the optional keys
+DEFAULT_METHOD = "exact"
+DEFAULT_POINTS = 200
+DEFAULT_TOLERANCE = 1e-10  # mm, integration tolerance of the exact method
+DEFAULT_PIN_DIAMETER = 10.0  # mm, holes drawn in the DXF
+METHODS = ("exact", "paper", "corrected")
+
+
+@dataclass(frozen=True)
+class Circle:
+    """A circle of the lever in the drawn pose: centre (mm) and radius (mm)."""
+
+    center: XYTuple
+    radius: float
+
+    def to_dict(self) -> dict:
+        return {"center": [self.center[0], self.center[1]], "radius": self.radius}
+
+
+@dataclass(frozen=True)
+class Stroke:
+    """The lever rotation θ (rad) from ``start`` to ``end``; θ = 0 is the drawn pose."""
+
+    start: float
+    end: float
+
+    @property
+    def span(self) -> float:
+        """Signed θ span of the stroke (rad)."""
+        return self.end - self.start
+
+    def to_dict(self) -> dict:
+        return {"from": self.start, "to": self.end}
+
+
+@dataclass(frozen=True)
+class Drive:
+    """The crank drive: ground pivot A of the crank and the lever point C (drawn pose) of the coupler."""
+
+    crank_pivot: XYTuple
+    coupler_point: XYTuple
+
+    def to_dict(self) -> dict:
+        return {"crank_pivot": [self.crank_pivot[0], self.crank_pivot[1]],
+                "coupler_point": [self.coupler_point[0], self.coupler_point[1]]}
+
+
+@dataclass(frozen=True)
+class RollingLever:
+    """A rolling-lever element of a scene (type ``"rolling_lever"``); all lengths mm, angles rad.
+
+    ``contact_branch`` ``"near"``/``"far"``: which intersection of the rocker line (from the pivot)
+    with the lever circle is the contact of pair D. ``slider_side`` +1/−1: the intersection of the
+    normal to the slider axis with the slider circle on the side of the axis rotated by ±90°.
+    ``points``: the stroke is divided into ``points`` intervals (``points + 1`` samples).
+    """
+
+    id: str
+    lever_circle: Circle
+    pin: XYTuple
+    rocker_pivot: XYTuple
+    slider_circle: Circle
+    stroke: Stroke
+    contact_branch: str = "near"
+    slider_axis_deg: float = 0.0
+    slider_side: int = 1
+    method: str = DEFAULT_METHOD
+    points: int = DEFAULT_POINTS
+    tolerance: float = DEFAULT_TOLERANCE
+    pin_diameter: float = DEFAULT_PIN_DIAMETER
+    drive: Drive | None = None
+    type: str = field(default="rolling_lever", init=False)
+
+    # -- derived constants of the drawn pose ------------------------------------------------
+    @property
+    def rocker_length(self) -> float:
+        """ℓ = |pin − rocker_pivot| (mm)."""
+        return math.hypot(self.pin[0] - self.rocker_pivot[0], self.pin[1] - self.rocker_pivot[1])
+
+    @property
+    def rocker_angle0(self) -> float:
+        """α0, the rocker angle in the drawn pose (rad, atan2)."""
+        return math.atan2(self.pin[1] - self.rocker_pivot[1], self.pin[0] - self.rocker_pivot[0])
+
+    @property
+    def slider_axis(self) -> XYTuple:
+        """Unit vector of the slider motion d_s."""
+        a = math.radians(self.slider_axis_deg)
+        return (math.cos(a), math.sin(a))
+
+    def drawn_contacts(self) -> tuple[XYTuple, XYTuple]:
+        """The contacts P (pair D) and P0 (pair E) in the drawn pose (mm).
+
+        Raises :class:`~mechsketch.core.errors.GeometryError` if either cannot be built.
+        """
+        from ..errors import GeometryError
+
+        msgs, p, p0 = _drawn_geometry(self)
+        if msgs:
+            raise GeometryError(f"rolling lever {self.id!r}: {msgs[0][1]}")
+        assert p is not None and p0 is not None
+        return p, p0
+
+    # -- derived results (computed in analyses; imported lazily: model < analyses) ----------
+    def synthesize(self, method: str | None = None, points: int | None = None, measures: bool = True):
+        """Synthesise the profiles: see :func:`mechsketch.core.analyses.rolling_synthesis.synthesize`."""
+        from ..analyses.rolling_synthesis import synthesize
+
+        return synthesize(self, method=method, points=points, measures=measures)
+
+    def to_dict(self) -> dict[str, Any]:
+        d: dict[str, Any] = {
+            "type": "rolling_lever",
+            "id": self.id,
+            "lever_circle": self.lever_circle.to_dict(),
+            "contact_branch": self.contact_branch,
+            "pin": [self.pin[0], self.pin[1]],
+            "rocker_pivot": [self.rocker_pivot[0], self.rocker_pivot[1]],
+            "slider_circle": self.slider_circle.to_dict(),
+            "slider_axis_deg": self.slider_axis_deg,
+            "slider_side": self.slider_side,
+            "stroke": self.stroke.to_dict(),
+            "method": self.method,
+            "points": self.points,
+            "tolerance": self.tolerance,
+            "pin_diameter": self.pin_diameter,
+        }
+        if self.drive is not None:
+            d["drive"] = self.drive.to_dict()
+        return d
+
+
+def _xy(v: Any) -> XYTuple:
+    return (float(v[0]), float(v[1]))
+
+
+def _drawn_geometry(el: RollingLever) -> tuple[list[tuple[str, str]], XYTuple | None, XYTuple | None]:
+    """Check the drawn pose; returns ([(json key, message)], P, P0)."""
+    msgs: list[tuple[str, str]] = []
+    gx, gy = el.rocker_pivot
+    ell = el.rocker_length
+    scale = max(1.0, *(abs(c) for c in (*el.pin, *el.rocker_pivot, *el.lever_circle.center)))
+    if ell <= 1e-9 * scale:
+        msgs.append(("rocker_pivot", f"rocker_pivot {list(el.rocker_pivot)} coincides with the pin "
+                                     f"{list(el.pin)}: the rocker has no length"))
+        return msgs, None, None
+    ex, ey = (el.pin[0] - gx) / ell, (el.pin[1] - gy) / ell
+    cx, cy = el.lever_circle.center
+    r1 = el.lever_circle.radius
+    b = (cx - gx) * ex + (cy - gy) * ey
+    miss = abs((cx - gx) * ey - (cy - gy) * ex) - r1  # distance of the centre from the line − R1
+    disc = b * b - ((cx - gx) ** 2 + (cy - gy) ** 2 - r1 * r1)
+    if disc <= 0.0:
+        msgs.append(("lever_circle", f"the rocker line from rocker_pivot {list(el.rocker_pivot)} through "
+                                     f"the pin misses the lever circle by {max(miss, 0.0):.6g} mm in the "
+                                     "drawn pose"))
+        return msgs, None, None
+    t = b + (1.0 if el.contact_branch == "far" else -1.0) * math.sqrt(disc)
+    if t <= 0.0:
+        msgs.append(("contact_branch", f"the {el.contact_branch} intersection of the rocker line with the "
+                                       f"lever circle lies behind rocker_pivot (t = {t:.6g} mm): the "
+                                       "pivot is inside the lever circle; use the 'far' branch or move it"))
+        return msgs, None, None
+    p = (gx + t * ex, gy + t * ey)
+    dsx, dsy = el.slider_axis
+    nx, ny = -dsy, dsx
+    zx, zy = p[0] - el.slider_circle.center[0], p[1] - el.slider_circle.center[1]
+    zn = zx * nx + zy * ny
+    r2 = el.slider_circle.radius
+    disc2 = zn * zn - (zx * zx + zy * zy) + r2 * r2
+    if disc2 < 0.0:
+        dist = abs(zx * dsx + zy * dsy)
+        msgs.append(("slider_circle", f"the normal to the slider axis through the contact point "
+                                      f"({p[0]:.6g}, {p[1]:.6g}) cannot reach the slider circle: it "
+                                      f"passes {dist - r2:.6g} mm outside it in the drawn pose"))
+        return msgs, p, None
+    t2 = -zn + el.slider_side * math.sqrt(disc2)
+    return msgs, p, (p[0] + t2 * nx, p[1] + t2 * ny)
+
+
+def parse(data: dict[str, Any], path: str) -> tuple[RollingLever | None, list[Problem]]:
+    """Check a schema-valid rolling-lever dict for meaning; return the element (or None) and problems."""
+    problems: list[Problem] = []
+    eid = data["id"]
+
+    def bad(where: str, msg: str) -> None:
+        problems.append(Problem(f"{path}.{where}", msg, eid))
+
+    lc, sc, st = data["lever_circle"], data["slider_circle"], data["stroke"]
+    drive = None
+    if "drive" in data:
+        dd = data["drive"]
+        drive = Drive(_xy(dd["crank_pivot"]), _xy(dd["coupler_point"]))
+        if math.dist(drive.crank_pivot, drive.coupler_point) <= 1e-9:
+            bad("drive.coupler_point", f"coupler_point {list(drive.coupler_point)} coincides with the crank "
+                                       "pivot: the coupler has no length")
+    stroke = Stroke(float(st["from"]), float(st["to"]))
+    if stroke.start == stroke.end:
+        bad("stroke", f"the stroke is empty (from = to = {stroke.start} rad)")
+    el = RollingLever(
+        id=eid,
+        lever_circle=Circle(_xy(lc["center"]), float(lc["radius"])),
+        pin=_xy(data["pin"]),
+        rocker_pivot=_xy(data["rocker_pivot"]),
+        slider_circle=Circle(_xy(sc["center"]), float(sc["radius"])),
+        stroke=stroke,
+        contact_branch=data.get("contact_branch", "near"),
+        slider_axis_deg=float(data.get("slider_axis_deg", 0.0)),
+        slider_side=int(data.get("slider_side", 1)),
+        method=data.get("method", DEFAULT_METHOD),
+        points=int(data.get("points", DEFAULT_POINTS)),
+        tolerance=float(data.get("tolerance", DEFAULT_TOLERANCE)),
+        pin_diameter=float(data.get("pin_diameter", DEFAULT_PIN_DIAMETER)),
+        drive=drive,
+    )
+    for key, msg in _drawn_geometry(el)[0]:
+        bad(key, msg)
+    if problems:
+        return None, problems
+    return el, problems
