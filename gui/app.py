@@ -118,7 +118,9 @@ def build(scene_path: str | os.PathLike | None = None, *, dialogs: DialogService
     else:
         file_ops.open_example(resources.DEFAULT_EXAMPLE, ask=False)
     if offer_recovery:
+        asked = time.perf_counter()
         offer_recovery_files(parts)
+        parts.started += time.perf_counter() - asked   # start-up time without the user's answer
     autosave.start()
     return parts
 

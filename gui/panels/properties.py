@@ -14,7 +14,7 @@ from typing import Callable
 
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import (QComboBox, QFormLayout, QFrame, QGroupBox, QHBoxLayout, QLabel, QLineEdit,
-                               QPushButton, QScrollArea, QVBoxLayout, QWidget)
+                               QScrollArea, QToolButton, QVBoxLayout, QWidget)
 
 from mechsketch.core import MechsketchError, MoveJoint, ReplaceElement
 from mechsketch.core.model.linkage import Driver, JointKind, Linkage
@@ -71,7 +71,7 @@ class PropertiesPanel(QWidget):
         layout.addWidget(scroll)
         #: editable fields by name ("x", "y", "axis", "length:B-C", "speed"), for tests and refresh
         self.fields: dict[str, QLineEdit] = {}
-        self.flip_buttons: dict[str, QPushButton] = {}
+        self.flip_buttons: dict[str, QToolButton] = {}
         self.direction: QComboBox | None = None
         self._refreshers: list[Callable[[], None]] = []
         self._key: object = None
@@ -340,7 +340,8 @@ class PropertiesPanel(QWidget):
             h.setContentsMargins(0, 0, 0, 0)
             h.addWidget(label, 1)
             if g.kind in FLIPPABLE:
-                button = QPushButton("Flip")
+                button = QToolButton()
+                button.setText("Flip")
                 button.setObjectName(f"flip:{g.name}")
                 button.setToolTip("Redraw the group in its other assembly mode (lengths kept)")
                 button.clicked.connect(lambda _=False, name=g.name: self.flip(eid, name))
