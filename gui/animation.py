@@ -28,7 +28,7 @@ import numpy as np
 from PySide6.QtCore import QObject, Qt, QTimer, Signal
 from PySide6.QtGui import QAction, QActionGroup, QKeySequence
 
-from .canvas.pose import PoseCache, map_frame, nearest_valid
+from .canvas.pose import dead_samples, map_frame, nearest_valid
 
 TICK_MS = 16
 SPEEDS = (0.1, 0.25, 0.5, 1.0, 2.0, 4.0)
@@ -50,7 +50,6 @@ class AnimationPlayer(QObject):
     def __init__(self, controller, parent: QObject | None = None) -> None:
         super().__init__(parent)
         self.controller = controller
-        self._cache = PoseCache()
         self._timer = QTimer(self)
         self._timer.setObjectName("AnimationPlayer.timer")
         self._timer.setTimerType(Qt.TimerType.PreciseTimer)
@@ -139,7 +138,7 @@ class AnimationPlayer(QObject):
         """Start the timer (from a limit, turn away from the gap first)."""
         if self.is_playing:
             return
-        valid, _ = self._arrays()
+        valid, _ = self.masks()
         if valid is None or not valid.any():
             self.controller.message.emit("nothing to animate: no linkage solves yet")
             self.play_action.setChecked(False)
@@ -180,12 +179,14 @@ class AnimationPlayer(QObject):
     # -- reading the precomputed arrays -----------------------------------------------------------
     def _invalidate(self) -> None:
         self._masks = None
-        valid, _ = self._arrays()
-        if self.is_playing and (valid is None or not valid.any()):
-            self.pause()
+        if self.is_playing:
+            valid, _ = self.masks()
+            if valid is None or not valid.any():
+                self.pause()
 
-    def _arrays(self) -> tuple[np.ndarray | None, set[int]]:
-        """(valid (N,), dead-point samples): the AND of all solved linkages at the global frames."""
+    def masks(self) -> tuple[np.ndarray | None, set[int]]:
+        """(valid (N,), dead-point samples) over the global frames: the AND of every solved
+        linkage's mask, and the samples of their toggles (None if nothing solves). Cached per solve."""
         if self._masks is not None:
             return self._masks
         ctl = self.controller
@@ -194,18 +195,17 @@ class AnimationPlayer(QObject):
             return None, set()
         valid = np.ones(n, dtype=bool)
         barriers: set[int] = set()
-        idx = np.arange(n)
         for lk in ctl.linkages():
-            arrays = self._cache.arrays(lk, ctl.result(lk.id))
-            if arrays is None:
+            res = ctl.result(lk.id)
+            if res is None or res.solution is None:
                 continue
-            m = np.array([map_frame(int(k), n, arrays.n) for k in idx]) if arrays.n != n else idx
-            valid &= arrays.valid[m]
-            diag = ctl.result(lk.id).diagnostics
-            kinds = [d.kind for d in diag.dead_points] if diag else []
-            for k, kind in zip(arrays.dead, kinds):
-                if kind == "toggle":
-                    barriers.add(k if arrays.n == n else int(round(k * n / arrays.n)) % n)
+            sol = res.solution
+            m = len(sol)
+            own = np.asarray(sol.valid, dtype=bool)
+            valid &= own if m == n else own[[map_frame(int(k), n, m) for k in range(n)]]
+            toggles = [d.input for d in (res.diagnostics.dead_points if res.diagnostics else []) if d.kind == "toggle"]
+            for k in dead_samples(sol, own, toggles):
+                barriers.add(k if m == n else int(round(k * n / m)) % n)
         self._masks = (valid, barriers)
         return self._masks
 
@@ -236,7 +236,7 @@ class AnimationPlayer(QObject):
 
     def seek(self, index: int) -> int:
         """Show sample ``index`` (the nearest valid one); returns the frame shown."""
-        valid, _ = self._arrays()
+        valid, _ = self.masks()
         if valid is None:
             return self.controller.frame
         k = nearest_valid(valid, int(index))
@@ -247,7 +247,7 @@ class AnimationPlayer(QObject):
     def step(self, count: int = 1, direction: int | None = None) -> int:
         """Advance ``count`` valid samples (in ``direction``, default the player's), stopping or
         reversing at limits and dead points; returns the frame reached."""
-        valid, barriers = self._arrays()
+        valid, barriers = self.masks()
         ctl = self.controller
         if valid is None:
             return ctl.frame

@@ -21,7 +21,7 @@ from PySide6.QtGui import QColor, QMouseEvent, QPainter, QPen, QPolygonF
 from PySide6.QtWidgets import QComboBox, QHBoxLayout, QLabel, QSizePolicy, QToolButton, QToolTip, QWidget
 
 from .animation import SPEEDS, AnimationPlayer
-from .canvas.pose import PoseCache, map_frame, walk_to
+from .canvas.pose import dead_samples, map_frame, walk_to
 
 GROOVE = QColor("#e3e6eb")
 GROOVE_EDGE = QColor("#b8bec8")
@@ -38,7 +38,6 @@ class ScrubTrack(QWidget):
         super().__init__(parent)
         self.controller = controller
         self.player = player
-        self._cache = PoseCache()
         self._dragging = False
         self.setMinimumHeight(30)
         self.setMouseTracking(True)
@@ -53,15 +52,17 @@ class ScrubTrack(QWidget):
         """(N, valid mask over global frames, [(frame, label)] of dead points)."""
         ctl = self.controller
         n = ctl.sample_count()
-        valid, _ = self.player._arrays()
+        valid, _ = self.player.masks()
         dead: list[tuple[int, str]] = []
         for lk in ctl.linkages():
             res = ctl.result(lk.id)
-            arrays = self._cache.arrays(lk, res)
-            if arrays is None or res.diagnostics is None:
+            if res is None or res.solution is None or res.diagnostics is None:
                 continue
-            for d, k in zip(res.diagnostics.dead_points, arrays.dead):
-                g = k if arrays.n == n else int(round(k * n / arrays.n)) % n
+            sol = res.solution
+            m = len(sol)
+            samples = dead_samples(sol, np.asarray(sol.valid, dtype=bool), [d.input for d in res.diagnostics.dead_points])
+            for d, k in zip(res.diagnostics.dead_points, samples):
+                g = k if m == n else int(round(k * n / m)) % n
                 what = "limit" if d.kind == "limit" else "dead point"
                 dead.append((g, f"{lk.id}: {what} at {math.degrees(d.input):.2f}° ({d.group})"))
         return n, valid, dead
@@ -169,7 +170,8 @@ class ScrubBar(QWidget):
         self.dead_box.currentIndexChanged.connect(
             lambda i: player.set_dead_point_behaviour(self.dead_box.itemData(i)))
         self.readout = QLabel(self)
-        self.readout.setMinimumWidth(190)
+        self.readout.setFixedWidth(self.readout.fontMetrics().horizontalAdvance(
+            "input -180.00°  t 000.000 s  3600/3600") + 12)
         for w in (self.play_button, self.direction_button):
             lay.addWidget(w)
         lay.addWidget(self.track, 1)
@@ -198,7 +200,10 @@ class ScrubBar(QWidget):
                 sol = res.solution
                 k = map_frame(ctl.frame, n, len(sol))
                 deg = math.degrees(math.remainder(float(sol.input[k]), 2 * math.pi))
-                ok = "" if sol.valid[k] else "  (not assemblable)"
-                self.readout.setText(f"input {deg:7.2f}°  t {float(sol.t[k]):.3f} s  {ctl.frame + 1}/{n}{ok}")
+                self.readout.setText(f"input {deg:.2f}°  t {float(sol.t[k]):.3f} s  {ctl.frame + 1}/{n}")
+                ok = bool(sol.valid[k])
+                self.readout.setStyleSheet("" if ok else "color: #d62728")
+                self.readout.setToolTip("" if ok else "the linkage cannot be assembled at this input")
                 return
         self.readout.setText("no solved linkage")
+        self.readout.setStyleSheet("")

@@ -38,6 +38,7 @@ HOVER = QColor("#1e88e5")
 SELECT = QColor("#ff8f00")
 TRACE = QColor("#8e44ad")
 BAD = QColor("#d62728")
+NOTE = QColor("#9a6700")
 GHOST = QColor("#1e88e5")
 JOINT_R = 4.5          # px
 LABEL_PX = 11          # px
@@ -160,9 +161,11 @@ class LinkageItem(_Item):
         lk = self.pose.linkage
         for jid in self.pose.guide:
             self._guide(painter, jid, px)
-        for link in lk.links:
-            if link.id != lk.ground:
-                self._link(painter, link.id, px)
+        # plates under bars, the driver on top: a crank is never hidden under a coupler plate
+        order = sorted((k for k in lk.links if k.id != lk.ground),
+                       key=lambda k: (k.id == lk.driver.link, len(k.joints) <= 2))
+        for link in order:
+            self._link(painter, link.id, px)
         grounded = set(lk.link(lk.ground).joints) if lk.ground in lk.link_ids else set()
         for j in lk.joints:
             if j.id in grounded and j.kind is JointKind.R:
@@ -308,7 +311,7 @@ class LinkageItem(_Item):
         x = min(p[0] for p in pts)
         y = min(p[1] for p in pts)
         _text(painter, (x, y), f"{self.pose.element}: {short_error(self.pose.error or '')}", px,
-              -8.0, -36.0, BAD, LABEL_PX)
+              -8.0, -36.0, NOTE, LABEL_PX)
 
 
 def decimate(xy: np.ndarray, step: float) -> np.ndarray:
@@ -486,9 +489,10 @@ class Overlay:
     labels: list[tuple[XY, str]] = field(default_factory=list)
     rect: tuple[XY, XY] | None = None
     bad: bool = False
+    picked: list[XY] = field(default_factory=list)    # joints the tool has picked so far
 
     def is_empty(self) -> bool:
-        return not (self.lines or self.points or self.circles or self.labels or self.rect)
+        return not (self.lines or self.points or self.circles or self.labels or self.rect or self.picked)
 
 
 class OverlayItem(_Item):
@@ -504,6 +508,7 @@ class OverlayItem(_Item):
     def set_overlay(self, overlay: Overlay) -> None:
         self.overlay = overlay
         pts = [p for ln in overlay.lines for p in ln] + list(overlay.points) + [p for p, _ in overlay.labels]
+        pts += list(overlay.picked)
         pts += [(c[0] + s * r, c[1] + s * r) for c, r in overlay.circles for s in (-1, 1)]
         if overlay.rect:
             pts += list(overlay.rect)
@@ -535,3 +540,7 @@ class OverlayItem(_Item):
             painter.drawEllipse(QPointF(*p), JOINT_R * px, JOINT_R * px)
         for p, text in ov.labels:
             _text(painter, p, text, px, 10.0, 10.0, color, LABEL_PX)
+        painter.setBrush(Qt.BrushStyle.NoBrush)
+        painter.setPen(_pen(GHOST, 2.5))
+        for p in ov.picked:
+            painter.drawEllipse(QPointF(*p), (JOINT_R + 4) * px, (JOINT_R + 4) * px)

@@ -70,7 +70,7 @@ class SolutionArrays:
         for j in linkage.joints:
             if j.kind is JointKind.P:
                 self._slider(linkage, sol, j)
-        self.dead = [self.sample_of(x) for x in dead_inputs]
+        self.dead = dead_samples(sol, self.valid, dead_inputs)
 
     def _slider(self, linkage: Linkage, sol: Solution, j: Joint) -> None:
         guide, block = slider_roles(linkage, j.id)
@@ -93,11 +93,7 @@ class SolutionArrays:
 
     def sample_of(self, x: float) -> int:
         """The valid sample nearest to driver input ``x`` (rad, the sweep's unwrapped convention)."""
-        inp = self.solution.input
-        step = float(inp[1] - inp[0]) if self.n > 1 else 1.0
-        k = int(round((x - float(inp[0])) / step)) % self.n
-        near = nearest_valid(self.valid, k)
-        return k if near is None else near
+        return dead_samples(self.solution, self.valid, [x])[0]
 
     def extent(self) -> tuple[float, float, float, float] | None:
         """(xmin, ymin, xmax, ymax) of every joint over the whole cycle, mm."""
@@ -109,6 +105,19 @@ class SolutionArrays:
         if not allp.size:
             return None
         return (float(allp[:, 0].min()), float(allp[:, 1].min()), float(allp[:, 0].max()), float(allp[:, 1].max()))
+
+
+def dead_samples(sol: Solution, valid: np.ndarray, inputs: Iterable[float]) -> list[int]:
+    """For each driver input (rad, the sweep's unwrapped convention), the nearest valid sample."""
+    n = len(sol)
+    inp = sol.input
+    step = float(inp[1] - inp[0]) if n > 1 else 1.0
+    out = []
+    for x in inputs:
+        k = int(round((x - float(inp[0])) / step)) % n
+        near = nearest_valid(valid, k)
+        out.append(k if near is None else near)
+    return out
 
 
 @dataclass

@@ -5,7 +5,6 @@ import math
 
 import numpy as np
 import pytest
-from PySide6.QtCore import Qt
 
 from canvas_user import fourbar_by_formula, make_view
 from mechsketch.core.model.linkage import JointKind

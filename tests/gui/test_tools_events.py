@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from canvas_user import example
-from mechsketch.core.model.edits import AddElement
+from mechsketch.core.model.edits import AddElement, ReplaceElement
 from mechsketch.core.model.linkage import Joint, JointKind, Link
 from mechsketch.gui.canvas import ops
 from mechsketch.gui.canvas.events import CanvasEvent, Hit
@@ -196,3 +196,15 @@ def test_delete_items_cleans_up_dangling_parts():
     assert ops.delete_items(lk, joints=["A", "B", "C", "S"]) is None
     assert ops.fresh_joint_id(lk) == "D" and ops.fresh_link_id(lk) == "link1"
     assert ops.fresh_link_id(lk, "crank", bare=True) == "crank1"
+
+
+def test_a_pick_undone_under_a_tool_restarts_it_politely():
+    d = fourbar()
+    t = RRRTool(d.ctx)
+    d.click(t, (20.0, 34.641016151))            # B
+    d.click(t, (53.090624797, 108.159793008))   # E, the coupler point
+    lk = d.ctl.scene.element("fourbar")
+    d.ctl.push(ReplaceElement(ops.delete_items(lk, joints=["E"])))
+    t.handle(d.ev("move", (100.0, 150.0), button="none"))
+    assert "a picked joint is gone" in d.messages[-1] and t.picks() == []
+    assert t.overlay().picked == []
