@@ -221,3 +221,24 @@ def test_an_impossible_drag_is_shown_not_fatal(shell):
     assert np.isnan(y).mean() > 0.9                        # the plots are gaps, not garbage
     c.end_preview(None)
     assert not c.is_dirty and "reachable: full revolution" in w.diagnostics.plain_text()
+
+
+class _Gear:
+    """An element of a type the panels have no editor for (like a Geneva drive)."""
+
+    id, type = "gear1", "geneva"
+
+    def to_dict(self):
+        return {"type": self.type, "id": self.id}
+
+
+def test_a_scene_without_a_linkage_lists_its_elements(shell):
+    from mechsketch.core import Scene
+
+    parts = shell()
+    parts.controller.reset(Scene((_Gear(),)), None)
+    w = parts.window
+    assert "geneva gear1" in w.diagnostics.plain_text()
+    assert "no linkage" in w.plots.title.text()
+    labels = [lab.text() for lab in w.properties._content.findChildren(type(w.plots.title))]
+    assert "gear1" in labels
