@@ -40,6 +40,7 @@ class ScrubTrack(QWidget):
         self.player = player
         self._dragging = False
         self.setMinimumHeight(30)
+        self.setMinimumWidth(160)
         self.setMouseTracking(True)
         self.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Fixed)
         controller.solutionsChanged.connect(self.update)
@@ -166,6 +167,7 @@ class ScrubBar(QWidget):
         self.dead_box = QComboBox(self)
         self.dead_box.addItem("stop at dead points", "stop")
         self.dead_box.addItem("reverse at dead points", "reverse")
+        self.dead_box.setToolTip("what the animation does at a dead point or the limit of its range")
         self.dead_box.setCurrentIndex(1 if player.dead_point_behaviour == "reverse" else 0)
         self.dead_box.currentIndexChanged.connect(
             lambda i: player.set_dead_point_behaviour(self.dead_box.itemData(i)))

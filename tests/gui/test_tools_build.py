@@ -157,3 +157,48 @@ def test_coupler_point_is_added_to_the_link_and_traced(qtbot):
     db = np.hypot(*(e - b).T)
     dc = np.hypot(*(e - c).T)
     assert np.ptp(db) < 1e-9 and np.ptp(dc) < 1e-9
+
+
+def test_slider_on_a_moving_guide_by_clicks(qtbot):
+    from canvas_user import example
+
+    ctl, view, user = make_view(qtbot, example("fourbar_crank_rocker"))
+    user.tool("rrp")
+    user.click((53.090624797, 108.159793008))   # the rod starts at the coupler point E
+    user.click((153.0, 30.0))                   # guide start on the rocker D-C (snaps to (150, 30))
+    user.click((140.0, 90.0))                   # slider pin; the guide runs (150,30) -> (140,90)
+    lk = ctl.scene.element("fourbar")
+    pin, slide = lk.joint("F"), lk.joint("G")
+    assert slide.kind is JointKind.P and "G" in lk.link("rocker").joints
+    assert slide.axis_deg == pytest.approx(math.degrees(math.atan2(60.0, -10.0)))
+    res = ctl.result("fourbar")
+    assert res.ok, res.error
+    sol = res.solution
+    assert sol.residual() < 1e-9
+    # the pin stays on the guide line carried by the rocker, at every valid sample
+    g0 = sol.point("rocker", (150.0, 30.0))
+    g1 = sol.point("rocker", (140.0, 90.0))
+    f = sol.position("F")
+    cross = (g1 - g0)[:, 0] * (f - g0)[:, 1] - (g1 - g0)[:, 1] * (f - g0)[:, 0]
+    ok = sol.valid
+    assert ok.any() and np.nanmax(np.abs(cross[ok])) < 1e-8
+    view.grab()
+
+
+def test_a_coupler_point_added_at_an_animation_frame_lands_where_clicked(qtbot):
+    from canvas_user import example
+
+    ctl, view, user = make_view(qtbot, example("fourbar_crank_rocker"))
+    ctl.set_frame(120)
+    pose = view.ctx.pose("fourbar")
+    b, c = (complex(*pose.at[j]) for j in "BC")
+    p = b + 0.5 * (c - b)
+    user.tool("coupler")
+    view.snap_enabled = False
+    user.click((p.real, p.imag))
+    assert ctl.frame == 120 and ctl.undo_stack.count() == 1
+    lk = ctl.scene.element("fourbar")
+    new = [j for j in lk.joint_ids if j not in "ABCDE"]
+    assert len(new) == 1
+    shown = ctl.result("fourbar").solution.position(new[0])[120]
+    assert abs(complex(*shown) - p) < 2 * view.px()          # where it was clicked, at that frame
