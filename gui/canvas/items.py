@@ -188,25 +188,25 @@ class LinkageItem(_Item):
             return
         driver = link_id == lk.driver.link
         fill, edge = (DRIVER_FILL, DRIVER_EDGE) if driver else (LINK_FILL, LINK_EDGE)
-        path = QPainterPath()
-        path.moveTo(poly[0].real, poly[0].imag)
-        for z in poly[1:]:
-            path.lineTo(z.real, z.imag)
-        if len(poly) > 2:
-            path.closeSubpath()
+        if len(poly) == 2:   # a bar: three strokes of one line (cheaper than paths)
+            a, b = QPointF(poly[0].real, poly[0].imag), QPointF(poly[1].real, poly[1].imag)
+            draw = lambda: painter.drawLine(a, b)  # noqa: E731
+        else:
+            shape = QPolygonF([QPointF(z.real, z.imag) for z in poly])
+            draw = lambda: painter.drawPolygon(shape)  # noqa: E731
         state = self._state("link", link_id)
         painter.setBrush(Qt.BrushStyle.NoBrush)
         if state is not None:
             halo = QColor(state)
             halo.setAlpha(110)
             painter.setPen(_pen(halo, 19))
-            painter.drawPath(path)
+            draw()
         painter.setPen(_pen(edge, 12))
-        painter.drawPath(path)
+        draw()
         painter.setPen(_pen(fill, 9))
         if len(poly) > 2:
             painter.setBrush(QBrush(fill))
-        painter.drawPath(path)
+        draw()
         painter.setBrush(Qt.BrushStyle.NoBrush)
 
     def _joint(self, painter: QPainter, jid: str, px: float) -> None:

@@ -78,6 +78,7 @@ class SolutionArrays:
         self.axis[j.id] = (j.axis_deg or 0.0) + np.degrees(rot)
         if not guide or not block:
             return
+        self.pos[j.id] = sol.point(block, j.at)   # shown where the block is, whichever link reports it
         u0 = cmath.exp(1j * math.radians(j.axis_deg or 0.0))
         with np.errstate(invalid="ignore"):
             d = sol.point(block, j.at) - sol.point(guide, j.at)
@@ -229,8 +230,12 @@ def _inside(p: complex, poly: list[complex]) -> bool:
 
 
 def link_outline(pose: ElementPose, link_id: str) -> list[complex]:
-    """Displayed corner points of a link, in drawing order (convex hull for three or more)."""
-    pts = [complex(*pose.at[j]) for j in pose.linkage.link(link_id).joints if j in pose.at]
+    """Displayed corner points of a link, in drawing order (angle-sorted for three or more).
+
+    A P joint counts for its block, not for its guide (the guide is drawn as a slot or rail)."""
+    lk = pose.linkage
+    pts = [complex(*pose.at[j]) for j in lk.link(link_id).joints if j in pose.at
+           and not (lk.joint(j).kind is JointKind.P and slider_roles(lk, j)[0] == link_id)]
     uniq: list[complex] = []
     for p in pts:
         if all(abs(p - q) > 1e-9 for q in uniq):

@@ -176,3 +176,18 @@ def test_every_example_paints_at_several_frames(qtbot, path):
         assert not img.isNull()
     for items in view._items.values():
         assert not items.linkage.boundingRect().isEmpty()
+
+
+def test_the_drag_benchmark_runs_and_commits_one_command(qtbot):
+    """The responsiveness report (benchmarks/bench_gui_drag.py) on a small run: it must work,
+    its timings are reported, not asserted."""
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[2] / "benchmarks" / "bench_gui_drag.py"
+    spec = importlib.util.spec_from_file_location("bench_gui_drag", path)
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    rep = bench.run(samples=720, moves=10, radius=4.0, size=(600, 400))
+    assert rep["samples"] == 720 and rep["undo_commands_after_release"] == 1   # the drag: one command
+    assert rep["total_ms"]["median"] > 0
