@@ -101,11 +101,11 @@ class MainWindow(QMainWindow):
 
         # -- wiring -------------------------------------------------------------------------
         controller.message.connect(self.show_message)
-        controller.solveFailed.connect(lambda eid, msg: self.show_message(f"{eid}: {msg}"))
+        controller.solveFailed.connect(self._on_solve_failed)
         controller.pathChanged.connect(self.update_title)
         controller.sceneChanged.connect(self.update_title)
         controller.solutionsChanged.connect(self._update_status)
-        controller.frameChanged.connect(lambda _i: self._update_frame())
+        controller.frameChanged.connect(self._update_frame)
         file_ops.recentChanged.connect(self._fill_recent)
         self.plots.add_header_actions([self.actions["export_png"], self.actions["export_csv"]])
         self.update_title()
@@ -240,7 +240,10 @@ class MainWindow(QMainWindow):
         self.solve_label.setText("; ".join(parts))
         self._update_frame()
 
-    def _update_frame(self) -> None:
+    def _on_solve_failed(self, element_id: str, message: str) -> None:
+        self.show_message(f"{element_id}: {message}")
+
+    def _update_frame(self, _frame: int = 0) -> None:
         frame = self.controller.frame
         for res in self.controller.results().values():
             if res.solution is not None and frame < len(res.solution):
