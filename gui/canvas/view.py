@@ -256,8 +256,11 @@ class CanvasView(QGraphicsView):
     def _sync(self) -> None:
         """Rebuild items after the document or its solutions changed (cheap when nothing did)."""
         ctl = self.controller
-        key = (id(ctl.scene), tuple((el, id(r.solution), r.error) for el, r in ctl.results().items()))
-        if key == self._key:
+        # identity of the scene and of each solution (references held, so ids cannot be reused)
+        key = (ctl.scene, [(el, r.solution, r.error) for el, r in ctl.results().items()])
+        old = self._key
+        if (old is not None and old[0] is key[0] and len(old[1]) == len(key[1])
+                and all(a[0] == b[0] and a[1] is b[1] and a[2] == b[2] for a, b in zip(old[1], key[1]))):
             return
         self._key = key
         poses = self.ctx.poses()
