@@ -21,7 +21,7 @@ import numpy as np
 
 from mechsketch.core.errors import GeometryError
 from mechsketch.core.model.edits import ReplaceElement
-from mechsketch.core.model.linkage import Joint, JointKind, Linkage
+from mechsketch.core.model.linkage import JointKind, Linkage
 from mechsketch.core.solver import kernels as K
 from mechsketch.core.solver.plan import Plan
 
@@ -145,4 +145,4 @@ def group_modes(linkage: Linkage) -> dict[str, float | None]:
     return {g.name: sol.group_output(g.name).extra.get("mode") for g in sol.groups}
 
 
-__all__ = ["FLIPPABLE", "flip_edit", "flip_group", "group_modes", "Joint"]
+__all__ = ["FLIPPABLE", "flip_edit", "flip_group", "group_modes"]

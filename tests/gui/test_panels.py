@@ -82,7 +82,10 @@ def test_ternary_link_lengths_are_shown_read_only(shell):
     parts.controller.set_selection([("fourbar", "link", "coupler")])
     props = parts.window.properties
     assert not any(k.startswith("length:") for k in props.fields)
-    assert props._content.findChildren(type(props.title if hasattr(props, "title") else props.selector))
+    from PySide6.QtWidgets import QLabel
+
+    shown = [lab.text() for lab in props._content.findChildren(QLabel)]
+    assert any(t.endswith(" mm") and float(t[:-3]) > 0 for t in shown if t[:1].isdigit())
 
 
 def test_driver_speed_and_direction(shell, qtbot):
