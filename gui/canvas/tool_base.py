@@ -182,7 +182,7 @@ class Tool:
         pass
 
     def on_double(self, ev: CanvasEvent) -> None:
-        self.on_press(ev)
+        """A double click arrives after its press/release pair; tools ignore the extra event."""
 
     # -- helpers ----------------------------------------------------------------------------
     def _joint_hit(self, ev: CanvasEvent, revolute: bool = True) -> Hit | None:
