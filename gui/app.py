@@ -196,7 +196,8 @@ def run_app(scene_path: str | os.PathLike | None = None) -> int:
     parts = build(scene_path)
     previous = install_excepthook(parts)
     try:
-        fit_to_screen(parts.window)
+        if not parts.window.layout_restored:
+            fit_to_screen(parts.window)
         parts.window.show()
         parts.controller.message.emit(
             f"ready in {time.perf_counter() - parts.started:.2f} s")

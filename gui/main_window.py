@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable
 
-from PySide6.QtCore import QObject, Qt, QTimer
+from PySide6.QtCore import QByteArray, QObject, Qt, QTimer
 from PySide6.QtGui import QAction, QCloseEvent, QKeySequence
 from PySide6.QtWidgets import QDockWidget, QLabel, QMainWindow, QMenu, QVBoxLayout, QWidget
 
@@ -26,6 +26,10 @@ from .file_ops import FileOps
 from .panels.diagnostics import DiagnosticsPanel
 from .panels.plots import PlotsPanel
 from .panels.properties import PropertiesPanel
+
+
+#: version of the saved dock layout (bump when the docks change)
+LAYOUT_VERSION = 1
 
 
 @dataclass
@@ -87,7 +91,8 @@ class MainWindow(QMainWindow):
             "diagnostics": self._dock("Diagnostics", self.diagnostics, Qt.DockWidgetArea.LeftDockWidgetArea),
             "plots": self._dock("Plots", self.plots, Qt.DockWidgetArea.RightDockWidgetArea),
         }
-        self._docks_sized = False
+        self.layout_restored = self.restore_layout()
+        self._docks_sized = self.layout_restored
 
         # -- actions, menus, toolbar, status bar --------------------------------------------
         self._make_actions()
@@ -300,10 +305,25 @@ class MainWindow(QMainWindow):
                          [self.height() * 11 // 20, self.height() * 9 // 20], Qt.Orientation.Vertical)
 
     # -- closing -----------------------------------------------------------------------------
+    def restore_layout(self) -> bool:
+        """Window size and dock layout from the settings (True if there was one to restore)."""
+        settings = self.file_ops.settings
+        geometry, state = settings.value("window/geometry"), settings.value("window/state")
+        if not isinstance(geometry, QByteArray) or not isinstance(state, QByteArray):
+            return False
+        return self.restoreGeometry(geometry) and self.restoreState(state, LAYOUT_VERSION)
+
+    def save_layout(self) -> None:
+        settings = self.file_ops.settings
+        settings.setValue("window/geometry", self.saveGeometry())
+        settings.setValue("window/state", self.saveState(LAYOUT_VERSION))
+        settings.sync()
+
     def closeEvent(self, event: QCloseEvent) -> None:  # noqa: N802 - Qt override
         if not self.file_ops.maybe_save():
             event.ignore()
             return
+        self.save_layout()
         if self.parts.stop is not None:
             self.parts.stop()
         self.autosave.clean_exit()

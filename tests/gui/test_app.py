@@ -187,3 +187,14 @@ def test_qt_bindings_keep_none_alive(qtbot):
     for _ in range(2000):
         label.setText("x")
     assert abs(sys.getrefcount(None) - before) < 100
+
+
+def test_window_layout_is_remembered(shell):
+    first = shell()
+    first.window.docks["diagnostics"].hide()
+    first.dialogs.save_changes.append(DISCARD)
+    assert first.window.close()
+    second = shell()
+    assert not second.window.docks["diagnostics"].isVisible()
+    assert second.window.docks["plots"].isVisible()
+    assert second.window.layout_restored and not first.window.layout_restored
