@@ -1,0 +1,109 @@
+"""Instant centres and centrodes of any link of a solved linkage.
+
+For a moving link K with a point X (velocity v_X) and angular velocity ω, the instant centre
+relative to the frame is P = X + J v_X / ω (J the 90° rotation): the point of K with zero
+velocity. Relative to another link L, velocities relative to L are used: v_rel = v_X − v_L(X)
+with v_L(X) = v_Y + ω_L J (X − Y) for a point Y of L, and ω_rel = ω_K − ω_L. Where |ω_rel| is
+below ``rel_tol`` times the largest angular speed of the motion, the relative motion is a pure
+translation (centre at infinity): the sample is flagged, not an error.
+
+The fixed centrode is the locus of P in the frame (or, with ``relative_to``, in L's own frame,
+drawn-pose coordinates); the moving centrode is the locus of P in K's own frame (drawn-pose
+coordinates). Only the solution's public contract is used: ``point``, ``point_velocity``,
+``omega``, ``input``, ``valid``.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import GeometryError
+from ..io.table import Table
+
+
+def _j(v: np.ndarray) -> np.ndarray:
+    return np.stack([-v[:, 1], v[:, 0]], axis=-1)
+
+
+def _unrotate(v: np.ndarray, rho: np.ndarray) -> np.ndarray:
+    c, s = np.cos(rho), np.sin(rho)
+    return np.stack([c * v[:, 0] + s * v[:, 1], -s * v[:, 0] + c * v[:, 1]], axis=-1)
+
+
+@dataclass
+class Centrodes:
+    """Instant centres of ``link`` relative to ``relative_to`` (None: the frame) per sample.
+
+    ``input`` (N,) rad: driver angle; ``P`` (N, 2) mm: fixed-centrode point (in the frame, or in
+    the reference link's frame); ``p`` (N, 2) mm: moving-centrode point in the link's frame;
+    ``valid`` (N,) bool: False where the solution is invalid or the relative motion is a pure
+    translation (then P and p are NaN); ``omega_rel`` (N,) rad/s.
+    """
+
+    link: str
+    relative_to: str | None
+    input: np.ndarray
+    P: np.ndarray
+    p: np.ndarray
+    valid: np.ndarray
+    omega_rel: np.ndarray
+    translation: np.ndarray
+
+    def table(self) -> Table:
+        """CSV table with columns ``input P.x P.y p.x p.y valid`` (rad, mm, 1/0)."""
+        return Table.from_columns({"input": self.input, "P.x": self.P[:, 0], "P.y": self.P[:, 1],
+                                   "p.x": self.p[:, 0], "p.y": self.p[:, 1], "valid": self.valid.astype(float)},
+                                  integer={"valid"})
+
+
+def _frame(sol, link: str, x0: tuple[float, float]) -> tuple[np.ndarray, np.ndarray]:
+    """Position (N, 2) of the link's point drawn at x0, and the link's rotation from the drawn pose (N,)."""
+    X = np.asarray(sol.point(link, x0), dtype=float)
+    X1 = np.asarray(sol.point(link, (x0[0] + 1.0, x0[1])), dtype=float)
+    d = X1 - X
+    return X, np.arctan2(d[:, 1], d[:, 0])
+
+
+def linkage_centrodes(solution, linkage, link: str, relative_to: str | None = None,
+                      rel_tol: float = 1e-9) -> Centrodes:
+    """Instant centres and both centrodes of ``link`` of a solved ``linkage`` (see module docstring).
+
+    ``solution`` needs velocities (a solve of order ≥ 1). Raises :class:`GeometryError` naming the
+    id for an unknown link, the ground link, or ``relative_to`` equal to ``link``.
+    """
+    ids = linkage.link_ids
+    for what, lid in (("link", link), ("relative_to", relative_to)):
+        if lid is not None and lid not in ids:
+            raise GeometryError(f"linkage {linkage.id!r} has no link {lid!r} (links: {', '.join(ids)})")
+    if link == linkage.ground:
+        raise GeometryError(f"link {link!r} is the ground: it has no motion, hence no centrodes")
+    if relative_to == link:
+        raise GeometryError(f"the centrodes of link {link!r} relative to itself are undefined")
+    ref_link = None if relative_to in (None, linkage.ground) else relative_to
+
+    x0 = linkage.joint(linkage.link(link).joints[0]).at
+    X, rho_k = _frame(solution, link, x0)
+    v = np.asarray(solution.point_velocity(link, x0), dtype=float)
+    w_k = np.asarray(solution.omega(link), dtype=float)
+    w_ref = np.abs(w_k)
+    if ref_link is not None:
+        y0 = linkage.joint(linkage.link(ref_link).joints[0]).at
+        Y, rho_l = _frame(solution, ref_link, y0)
+        vy = np.asarray(solution.point_velocity(ref_link, y0), dtype=float)
+        w_l = np.asarray(solution.omega(ref_link), dtype=float)
+        v = v - (vy + w_l[:, None] * _j(X - Y))
+        w = w_k - w_l
+        w_ref = np.maximum(w_ref, np.abs(w_l))
+    else:
+        w = w_k
+    drv = np.abs(np.asarray(solution.omega(linkage.driver.link), dtype=float))
+    scale = max(float(np.nanmax(np.concatenate([w_ref, drv]))) if np.any(np.isfinite(w_ref)) else 0.0, 1e-300)
+    ok = np.asarray(solution.valid, dtype=bool) & np.isfinite(w) & np.all(np.isfinite(v), axis=1)
+    translation = ok & (np.abs(w) <= rel_tol * scale)
+    valid = ok & ~translation
+    with np.errstate(divide="ignore", invalid="ignore"):
+        Pg = X + _j(v) / np.where(valid, w, np.nan)[:, None]
+    p = _unrotate(Pg - X, rho_k) + np.asarray(x0)
+    P = Pg if ref_link is None else _unrotate(Pg - Y, rho_l) + np.asarray(y0)
+    return Centrodes(link, relative_to, np.asarray(solution.input, dtype=float), P, p, valid, w, translation)
