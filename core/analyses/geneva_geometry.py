@@ -1,0 +1,320 @@
+"""Drawable Geneva drive: the wheel, locking disc, crank arm and roller as exact lines and arcs.
+
+Frames (mm): the wheel is built about its centre O2 with slot k's axis at angle π + 2πk/z, so slot 0
+points at the crank centre when the wheel rotation is 0 (mid-engagement, φ = 0); the driver parts
+are built about the crank centre O1 with the crank arm along +x (the roller at (r, 0)).
+:meth:`GenevaGeometry.placed` puts them in the world at any crank angle.
+
+The wheel (seeds/NOTES.md, section B): z stadium slots (walls at ±w, w = r_p + c_s, from the
+corner line x_c = A·cos(π/z) in to the bottom semicircle of radius w centred at x_b = A − r − c_b),
+horn lands on the outer circle R_o = √(x_c² + w²), concave locking arcs of radius R_arc centred on
+the bisectors at distance A, and the hub bore. The locking disc has radius R_L = R_arc − c_l and a
+circular relief cut centred at distance A along the crank arm.
+
+The relief. The classical radius R_o is slightly too small (notes). Here it is the smallest radius,
+about that centre, whose circle contains every point of the disc that comes within c_l of the wheel
+during the engagement: the wheel outline is offset by c_l (exact lines and arcs), moved into the
+crank frame at each crank angle, and the farthest point from the relief centre among (a) offset
+vertices inside the disc, (b) the farthest points of offset arcs inside the disc and (c) the
+crossings of the offset outline with the disc circle is found in closed form per angle, then
+maximised over the angle (grid, then zoom). At the engagement ends the offset locking arc lies on
+the disc circle; the limit of its crossing there (angle ±φ0 on the disc) is added in closed form.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..errors import GeometryError
+from ..model.geneva import WheelDimensions, require_valid
+from .geneva_contour import Contour, Part
+from .geneva_kinematics import wheel_angle
+
+if TYPE_CHECKING:
+    from ..model.geneva import Geneva
+
+#: the relief radius drawn is the exact one rounded up to this step (mm)
+RELIEF_ROUND = 1e-3
+#: crank-angle grid for the relief search, and zoom levels/points around the best maxima
+RELIEF_GRID = 601
+RELIEF_ZOOM = (8, 41)
+#: a point counts as inside the disc only if it is this far inside (relative to A)
+INSIDE_TOL = 1e-9
+
+
+def wheel_outline(d: WheelDimensions) -> Contour:
+    """The wheel's outer contour (CCW, wheel frame, slot 0 along −x), 6 vertices per slot.
+
+    Per slot, from its lower corner: wall, bottom semicircle, wall, horn land (outer circle),
+    locking arc (concave), horn land of the next slot.
+    """
+    z = d.slots
+    land_b = math.tan(d.land_angle / 4.0)
+    lock_b = -math.tan(d.lock_half_angle / 2.0)  # included angle 2·β_L, clockwise
+    local = np.array([
+        [d.x_c, -d.w], [d.x_b, -d.w], [d.x_b, d.w], [d.x_c, d.w],
+        [d.outer_radius * math.cos(math.pi / z - d.gamma), d.outer_radius * math.sin(math.pi / z - d.gamma)],
+        [d.outer_radius * math.cos(math.pi / z + d.gamma), d.outer_radius * math.sin(math.pi / z + d.gamma)],
+    ])
+    bul = np.array([0.0, -1.0, 0.0, land_b, lock_b, land_b])
+    kinds = ("wall", "bottom", "wall", "land", "lock", "land")
+    pts, bs, ks = [], [], []
+    for k in range(z):
+        a = math.pi + 2.0 * math.pi * k / z
+        c, s = math.cos(a), math.sin(a)
+        pts.append(local @ np.array([[c, s], [-s, c]]))
+        bs.append(bul)
+        ks.extend(kinds)
+    return Contour(np.vstack(pts), np.concatenate(bs), tuple(ks))
+
+
+def wheel_area_closed_form(d: WheelDimensions, bore: float) -> float:
+    """The notes' closed-form wheel area (mm²): π R_o² − z[slot] − z·lens(R_o, R_arc, A) − π bore²."""
+    ro, w, xc, xb, ra, a = d.outer_radius, d.w, d.x_c, d.x_b, d.lock_arc_radius, d.center_distance
+    slot = 2 * w * (xc - xb) + math.pi * w * w / 2 + (ro * ro * math.acos(xc / ro) - xc * w)
+    lens = (ro * ro * math.acos((a * a + ro * ro - ra * ra) / (2 * a * ro))
+            + ra * ra * math.acos((a * a + ra * ra - ro * ro) / (2 * a * ra))
+            - 0.5 * math.sqrt((-a + ro + ra) * (a + ro - ra) * (a - ro + ra) * (a + ro + ra)))
+    return math.pi * ro * ro - d.slots * slot - d.slots * lens - math.pi * bore * bore
+
+
+def locking_disc_outline(radius: float, relief_radius: float, a: float) -> tuple[Contour, float]:
+    """The locking disc (CCW, crank frame) with the relief circle (centre (A, 0)) cut away, and the
+    relief half-angle ψ_r on the disc (rad)."""
+    xi = (a * a + radius * radius - relief_radius * relief_radius) / (2.0 * a)
+    if not -radius < xi < radius:
+        raise GeometryError(f"the relief circle (radius {relief_radius:.6g} mm at {a:.6g} mm) does not cut "
+                            f"the locking disc (radius {radius:.6g} mm)")
+    yi = math.sqrt(radius * radius - xi * xi)
+    psi = math.atan2(yi, xi)
+    kappa = math.atan2(yi, a - xi)
+    pts = np.array([[xi, yi], [xi, -yi]])
+    bul = np.array([math.tan((2 * math.pi - 2 * psi) / 4.0), -math.tan(kappa / 2.0)])
+    return Contour(pts, bul, ("disc", "relief")), psi
+
+
+def belt_outline(r1: float, r2: float, length: float) -> Contour:
+    """The hull of circle (0, 0; r1) and circle (length, 0; r2): a crank arm (CCW, crank frame)."""
+    alpha = math.asin((r1 - r2) / length)
+    t = math.pi / 2 + alpha
+    c, s = math.cos(t), math.sin(t)
+    pts = np.array([[r1 * c, -r1 * s], [length + r2 * c, -r2 * s], [length + r2 * c, r2 * s], [r1 * c, r1 * s]])
+    bul = np.array([0.0, math.tan(2 * t / 4.0), 0.0, math.tan((2 * math.pi - 2 * t) / 4.0)])
+    return Contour(pts, bul, ("line", "boss", "line", "hub"))
+
+
+# -- the relief ----------------------------------------------------------------------------
+def _in_sweep(ang: np.ndarray, a0: np.ndarray, theta: np.ndarray) -> np.ndarray:
+    """Whether angle ``ang`` lies on the arc starting at ``a0`` with signed sweep ``theta``."""
+    rel = np.where(theta > 0, np.mod(ang - a0, 2 * math.pi), np.mod(a0 - ang, 2 * math.pi))
+    return rel <= np.abs(theta) + 1e-12
+
+
+def relief_values(phi: np.ndarray, offset: Contour, d: WheelDimensions) -> np.ndarray:
+    """V(φ): farthest distance (mm) from the relief centre (A, 0) of any point of the disc
+    (radius R_L) covered by the offset wheel at crank angles ``phi`` (rad, shape (N,)); −inf where
+    the offset wheel does not reach the disc. Closed form per angle (see the module docstring)."""
+    a, rl = d.center_distance, d.lock_disc_radius
+    tol = INSIDE_TOL * a
+    phi = np.asarray(phi, float)
+    rot = -phi - wheel_angle(phi, d.lam)  # wheel frame -> crank frame
+    cr, sr = np.cos(rot)[:, None], np.sin(rot)[:, None]
+    tx, ty = (a * np.cos(phi))[:, None], (-a * np.sin(phi))[:, None]
+    sg = offset.segments()
+
+    def move(p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        return cr * p[:, 0] - sr * p[:, 1] + tx, sr * p[:, 0] + cr * p[:, 1] + ty
+
+    best = np.full(phi.shape, -np.inf)
+    x0, y0 = move(sg.p0)
+    r0 = np.hypot(x0, y0)
+    val = np.where(r0 <= rl - tol, np.hypot(x0 - a, y0), -np.inf)
+    best = np.maximum(best, val.max(axis=1))
+    # lines: crossings with the disc circle
+    ln = ~sg.is_arc
+    if ln.any():
+        x1, y1 = move(sg.p1[ln])
+        dx, dy = x1 - x0[:, ln], y1 - y0[:, ln]
+        qa = dx * dx + dy * dy
+        qb = 2 * (x0[:, ln] * dx + y0[:, ln] * dy)
+        qc = r0[:, ln] ** 2 - rl * rl
+        disc = qb * qb - 4 * qa * qc
+        # transversal crossings only: the line passes at least ``tol`` inside the disc circle
+        gap = rl - np.abs(x0[:, ln] * dy - y0[:, ln] * dx) / np.sqrt(qa)
+        root = np.sqrt(np.where((disc >= 0) & (gap > tol), disc, np.nan))
+        for sgn in (-1.0, 1.0):
+            t = (-qb + sgn * root) / (2 * qa)
+            ok = (t >= 0) & (t <= 1)
+            xs, ys = x0[:, ln] + t * dx, y0[:, ln] + t * dy
+            best = np.maximum(best, np.where(ok, np.hypot(xs - a, ys), -np.inf).max(axis=1))
+    arc = sg.is_arc
+    if arc.any():
+        cx, cy = move(sg.centre[arc])
+        rad = sg.radius[arc][None, :]
+        a0 = sg.a0[arc][None, :] + rot[:, None]
+        th = np.broadcast_to(sg.theta[arc][None, :], cx.shape)
+        # (b) the farthest point of each arc's circle from (A, 0), if on the arc and inside the disc
+        dq = np.hypot(cx - a, cy)
+        ang = np.arctan2(cy, cx - a)
+        fx, fy = cx + rad * np.cos(ang), cy + rad * np.sin(ang)
+        ok = _in_sweep(ang, a0, th) & (np.hypot(fx, fy) <= rl - tol)
+        best = np.maximum(best, np.where(ok, dq + rad, -np.inf).max(axis=1))
+        # (c) crossings of each arc with the disc circle
+        dc = np.hypot(cx, cy)
+        # transversal crossings only: the circles overlap by more than ``tol`` both ways
+        good = (dc - np.abs(rad - rl) > tol) & (rad + rl - dc > tol)
+        safe = np.where(good, dc, 1.0)
+        along = (rl * rl - rad * rad + dc * dc) / (2 * safe)
+        h2 = rl * rl - along * along
+        h = np.sqrt(np.where(good & (h2 >= 0), h2, np.nan))
+        ux, uy = cx / safe, cy / safe
+        for sgn in (-1.0, 1.0):
+            xs, ys = along * ux - sgn * h * uy, along * uy + sgn * h * ux
+            ok = _in_sweep(np.arctan2(ys - cy, xs - cx), a0, th)
+            best = np.maximum(best, np.where(ok, np.hypot(xs - a, ys), -np.inf).max(axis=1))
+    return best
+
+
+def _maximise(fun, lo: float, hi: float) -> tuple[float, float]:
+    """(max, argmax) of a 1-D function on [lo, hi]: grid, then zoom around the 3 best local maxima."""
+    x = np.linspace(lo, hi, RELIEF_GRID)
+    v = fun(x)
+    if not np.isfinite(v).any():
+        return -math.inf, math.nan
+    vv = np.where(np.isfinite(v), v, -np.inf)
+    peak = np.r_[True, vv[1:] >= vv[:-1]] & np.r_[vv[:-1] >= vv[1:], True]
+    cands = np.nonzero(peak & np.isfinite(vv))[0]
+    cands = cands[np.argsort(vv[cands])[::-1][:3]]
+    best_v, best_x = -math.inf, math.nan
+    step = (hi - lo) / (RELIEF_GRID - 1)
+    for k in cands:
+        xc, half = x[k], 2 * step
+        for _ in range(RELIEF_ZOOM[0]):
+            xs = np.clip(np.linspace(xc - half, xc + half, RELIEF_ZOOM[1]), lo, hi)
+            vs = fun(xs)
+            j = int(np.argmax(vs))
+            xc, half = xs[j], half * 4.0 / (RELIEF_ZOOM[1] - 1)
+        if vs[j] > best_v:
+            best_v, best_x = float(vs[j]), float(xc)
+    return best_v, best_x
+
+
+@dataclass(frozen=True)
+class Relief:
+    """Relief radii about the point at distance A on the crank arm (mm): ``exact`` clears the wheel
+    by c_l (worst at crank angle ``phi_exact``, rad); ``touch`` only avoids contact (c_l = 0, the
+    notes' value); ``classical`` = R_o; ``limit_end`` the closed-form requirement at the engagement
+    ends, √(R_L² + A² − 2·A·R_L·cos φ0); ``drawn`` = ``exact`` rounded up to 0.001 mm."""
+
+    exact: float
+    phi_exact: float
+    touch: float
+    classical: float
+    limit_end: float
+    drawn: float
+
+
+def relief(d: WheelDimensions, clearance_lock: float) -> Relief:
+    """The relief radii of the locking disc (see :class:`Relief`)."""
+    outline = wheel_outline(d)
+    a, rl = d.center_distance, d.lock_disc_radius
+    lim = math.sqrt(rl * rl + a * a - 2 * a * rl * math.cos(d.phi0))
+    off = outline.offset(clearance_lock) if clearance_lock > 0 else outline
+    v_c, x_c = _maximise(lambda p: relief_values(p, off, d), -d.phi0, d.phi0)
+    v_t, _ = _maximise(lambda p: relief_values(p, outline, d), -d.phi0, d.phi0)
+    exact = max(v_c, lim)
+    return Relief(exact=exact, phi_exact=x_c if v_c >= lim else d.phi0, touch=v_t,
+                  classical=d.outer_radius, limit_end=lim,
+                  drawn=math.ceil(exact / RELIEF_ROUND - 1e-9) * RELIEF_ROUND)
+
+
+# -- the assembled geometry --------------------------------------------------------------------
+@dataclass(frozen=True)
+class GenevaGeometry:
+    """The drawable drive. Parts in their own frames (see the module docstring): ``wheel``,
+    ``locking_disc``, ``crank_arm`` (its own plane, above the wheel), ``roller``.
+
+    Sizes (mm): ``dims`` (closed-form limits: hub_max, land_angle, slot_depth, ...), ``relief``,
+    ``wheel_bore``, ``crank_bore``, ``pin_radius``; angles (rad): ``relief_half_angle`` ψ_r on the
+    disc, ``locking_margin`` = φ0 + β_L − ψ_r (> 0: the disc locks the wheel as soon as the roller
+    leaves). ``wheel_area`` exact (mm²) and ``wheel_area_closed_form`` (the notes' formula).
+    """
+
+    element_id: str
+    dims: WheelDimensions
+    relief: Relief
+    wheel_bore: float
+    crank_bore: float
+    pin_radius: float
+    relief_half_angle: float
+    locking_margin: float
+    wheel: Part
+    locking_disc: Part
+    crank_arm: Part
+    roller: Part
+    crank_center: tuple[float, float]
+    wheel_center: tuple[float, float]
+    direction: float
+
+    @property
+    def wheel_area(self) -> float:
+        return self.wheel.area
+
+    @property
+    def wheel_area_closed_form(self) -> float:
+        return wheel_area_closed_form(self.dims, self.wheel_bore)
+
+    def wheel_rotation(self, phi: float) -> float:
+        """The wheel's world rotation from its built frame at crank angle ``phi`` (rad)."""
+        d = self.dims
+        if abs(phi) <= d.phi0:
+            return self.direction - float(wheel_angle(phi, d.lam))
+        return self.direction - math.copysign(math.pi / d.slots, phi)
+
+    def placed(self, phi: float = 0.0) -> dict[str, Part]:
+        """Every part in world coordinates (mm) at crank angle ``phi`` (rad, from the line of
+        centres, in (−π, π]): ``wheel``, ``locking_disc``, ``crank_arm``, ``roller``."""
+        crank = self.direction + phi
+        return {"wheel": self.wheel.moved(self.wheel_rotation(phi), self.wheel_center),
+                "locking_disc": self.locking_disc.moved(crank, self.crank_center),
+                "crank_arm": self.crank_arm.moved(crank, self.crank_center),
+                "roller": self.roller.moved(crank, self.crank_center)}
+
+
+def geometry(element: "Geneva") -> GenevaGeometry:
+    """Build the drawable drive of ``element``; :class:`GeometryError` names what cannot be built."""
+    d = require_valid(element)
+    rel = relief(d, element.clearance.lock)
+    dr = element.drawing
+    a = d.center_distance
+    wheel_bore = element.load.journal_radius if dr is None or dr.wheel_bore_radius is None else dr.wheel_bore_radius
+    room = a - rel.drawn
+    crank_bore = 0.5 * room if dr is None or dr.crank_bore_radius is None else dr.crank_bore_radius
+    if not crank_bore < room:
+        raise GeometryError(f"geneva {element.id!r}: drawing.crank_bore_radius = {crank_bore:.6g} mm must be "
+                            f"below A − relief radius = {room:.6g} mm, the locking disc's thinnest section "
+                            f"(over by {crank_bore - room:.6g} mm)")
+    rp = element.roller_radius
+    pin = 0.5 * rp if dr is None or dr.pin_radius is None else dr.pin_radius
+    disc, psi = locking_disc_outline(d.lock_disc_radius, rel.drawn, a)
+    margin = d.phi0 + d.lock_half_angle - psi
+    if not margin > 0:
+        raise GeometryError(f"geneva {element.id!r}: the relief (half-angle {math.degrees(psi):.4g}°) leaves no "
+                            f"locking at the end of indexing: φ0 + β_L − ψ_r = {math.degrees(margin):.4g}° "
+                            "must be > 0°")
+    holes = (Contour.circle((0.0, 0.0), wheel_bore, "bore"),) if wheel_bore > 0 else ()
+    wheel = Part("wheel", wheel_outline(d), holes)
+    crank_holes = (Contour.circle((0.0, 0.0), crank_bore, "bore"),) if crank_bore > 0 else ()
+    locking = Part("locking_disc", disc, crank_holes)
+    r = d.crank_radius
+    arm = Part("crank_arm", belt_outline(crank_bore + pin, 2 * pin, r),
+               crank_holes + (Contour.circle((r, 0.0), pin, "pin"),))
+    roller = Part("roller", Contour.circle((r, 0.0), rp, "roller"), (Contour.circle((r, 0.0), pin, "pin"),))
+    return GenevaGeometry(
+        element_id=element.id, dims=d, relief=rel, wheel_bore=wheel_bore, crank_bore=crank_bore,
+        pin_radius=pin, relief_half_angle=psi, locking_margin=margin, wheel=wheel, locking_disc=locking,
+        crank_arm=arm, roller=roller, crank_center=element.crank_center, wheel_center=element.wheel_center,
+        direction=math.radians(element.wheel_direction_deg))

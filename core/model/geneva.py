@@ -1,0 +1,477 @@
+"""The authored Geneva drive (external, radial entry) and its closed-form wheel dimensions.
+
+The element stores only what the user authored: slot count z, centre distance A, roller radius and
+length, clearances, placement, speed, load, materials and wear data (mm, MPa, kg·m², N·m).
+Everything else is derived: :func:`wheel_dimensions` gives the closed-form sizes of the
+manufacturable wheel (seeds/NOTES.md, section B, "Geometry for drawing a manufacturable wheel"),
+which ``parse`` uses to reject drives that cannot be built, naming the limit and by how much it is
+violated. The analyses (kinematics, geometry, contact and wear) live in
+``mechsketch.core.analyses.geneva_*`` and are reached through the element's methods.
+
+Conventions: the crank angle φ is measured from the line of centres (crank centre → wheel
+centre), counter-clockwise positive. Positive ``speed_rpm`` turns the crank counter-clockwise and the
+wheel clockwise. The crank radius is r = A·sin(π/z) (radial entry, λ = r/A = sin(π/z), note B9).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+from ..errors import GeometryError, Problem
+
+SCHEMA = "geneva.schema.json"
+
+XYTuple = tuple[float, float]
+
+#: defaults of the optional keys (seeds/NOTES.md, "Suggested built-in example scenes", 4)
+DEFAULT_ROLLER_LENGTH = 10.0  # mm
+DEFAULT_CLEARANCE = {"slot": 0.05, "bottom": 0.5, "lock": 0.1}  # mm
+DEFAULT_SPEED_RPM = 300.0 / math.pi  # ω1 = 10 rad/s
+DEFAULT_LOAD = {"wheel_inertia": 0.05, "external_moment": 0.0, "journal_friction": 0.05,
+                "journal_radius": 15.0}
+STEEL = {"E": 210000.0, "poisson": 0.3}  # MPa, -
+DEFAULT_WEAR = {"allowed_wear": 0.05, "specific_wear_rate": 1e-6}  # mm, mm³/(N·m)
+DEFAULT_SAMPLES = 3600
+#: default locking-arc radius R_arc = r − LOCK_ARC_FACTOR·w (notes: "a manufacturable default")
+LOCK_ARC_FACTOR = 1.5
+
+NORMAL_FORCE_MODELS = ("derived", "paper")
+HALF_WIDTH_MODELS = ("paper_half", "hertz", "paper_full")
+SLIP_RADIUS_MODELS = ("deformed", "undeformed")
+
+
+@dataclass(frozen=True)
+class Clearances:
+    """Clearances (mm): ``slot`` per side of the roller, ``bottom`` below the deepest roller
+    position, ``lock`` between the locking disc and the wheel's locking arcs."""
+
+    slot: float = DEFAULT_CLEARANCE["slot"]
+    bottom: float = DEFAULT_CLEARANCE["bottom"]
+    lock: float = DEFAULT_CLEARANCE["lock"]
+
+    def to_dict(self) -> dict:
+        return {"slot": self.slot, "bottom": self.bottom, "lock": self.lock}
+
+
+@dataclass(frozen=True)
+class Load:
+    """Load on the wheel: inertia J2 (kg·m²), constant external moment (N·m, opposing the indexing
+    motion when positive), journal friction coefficient f02 (-) and journal radius r02 (mm)."""
+
+    wheel_inertia: float = DEFAULT_LOAD["wheel_inertia"]
+    external_moment: float = DEFAULT_LOAD["external_moment"]
+    journal_friction: float = DEFAULT_LOAD["journal_friction"]
+    journal_radius: float = DEFAULT_LOAD["journal_radius"]
+
+    def to_dict(self) -> dict:
+        return {"wheel_inertia": self.wheel_inertia, "external_moment": self.external_moment,
+                "journal_friction": self.journal_friction, "journal_radius": self.journal_radius}
+
+
+@dataclass(frozen=True)
+class Material:
+    """An isotropic material: Young's modulus ``E`` (MPa) and Poisson's ratio (the paper's μ)."""
+
+    E: float = STEEL["E"]
+    poisson: float = STEEL["poisson"]
+
+    def to_dict(self) -> dict:
+        return {"E": self.E, "poisson": self.poisson}
+
+
+@dataclass(frozen=True)
+class Wear:
+    """Allowed wear depth [h] (mm) and Archard specific wear rate k (mm³/(N·m))."""
+
+    allowed_wear: float = DEFAULT_WEAR["allowed_wear"]
+    specific_wear_rate: float = DEFAULT_WEAR["specific_wear_rate"]
+
+    def to_dict(self) -> dict:
+        return {"allowed_wear": self.allowed_wear, "specific_wear_rate": self.specific_wear_rate}
+
+
+@dataclass(frozen=True)
+class ContactModel:
+    """Choices of the contact model (each is stated in the analysis output).
+
+    ``normal_force``: ``"derived"`` (moment balance with the friction sign by phase, note B3) or
+    ``"paper"`` (eq. 3 as printed); it feeds every downstream quantity.
+    ``half_width``: the half-width b entering the slip model, ``"paper_half"`` (a_paper/2, B2),
+    ``"hertz"`` (general Hertz b) or ``"paper_full"`` (the literal a_paper).
+    ``slip_radius``: ``"deformed"`` (ρ_eff = r_p − Δ, eq. 4) or ``"undeformed"`` (ρ_eff = r_p).
+    """
+
+    normal_force: str = "derived"
+    half_width: str = "paper_half"
+    slip_radius: str = "deformed"
+
+    def to_dict(self) -> dict:
+        return {"normal_force": self.normal_force, "half_width": self.half_width,
+                "slip_radius": self.slip_radius}
+
+
+@dataclass(frozen=True)
+class Drawing:
+    """Optional drawing sizes (mm); ``None`` means the default stated on each field.
+
+    ``locking_arc_radius``: R_arc, default r − 1.5·w. ``wheel_bore_radius``: the hub bore, default
+    the journal radius r02. ``crank_bore_radius``: the crank shaft bore of the locking disc and the
+    crank arm, default half the thinnest section of the relieved disc, 0.5·(A − R_relief).
+    ``pin_radius``: the roller pin, default r_p/2.
+    """
+
+    locking_arc_radius: float | None = None
+    wheel_bore_radius: float | None = None
+    crank_bore_radius: float | None = None
+    pin_radius: float | None = None
+
+    def to_dict(self) -> dict:
+        return {k: v for k, v in (("locking_arc_radius", self.locking_arc_radius),
+                                  ("wheel_bore_radius", self.wheel_bore_radius),
+                                  ("crank_bore_radius", self.crank_bore_radius),
+                                  ("pin_radius", self.pin_radius)) if v is not None}
+
+
+@dataclass(frozen=True)
+class WheelDimensions:
+    """Closed-form sizes of the drawable wheel (mm, rad), seeds/NOTES.md section B.
+
+    ``w`` slot half-width r_p + c_s; ``x_c`` slot-corner abscissa on the slot axis (= a_w, the
+    entry radius of the roller centre, A·cos(π/z)); ``x_b`` centre of the slot-bottom semicircle
+    A − r − c_b; ``outer_radius`` R_o = √(x_c² + w²); ``lock_arc_radius`` R_arc (centred on the
+    bisector at A); ``lock_disc_radius`` R_L = R_arc − c_l; ``hub_max`` = x_b − w (largest hub
+    radius); ``slot_depth`` = x_c − (x_b − w); ``beta_c`` = atan2(w, x_c) (corner half-angle);
+    ``gamma`` half-angle, seen from the wheel centre, of the locking arc's meeting points with the
+    outer circle; ``land_angle`` = π/z − β_c − γ, the horn land on each side of a slot;
+    ``lock_half_angle`` β_L, half-angle of the locking arc seen from its centre (the crank centre
+    during the dwell), measured from the line of centres.
+    """
+
+    slots: int
+    center_distance: float
+    crank_radius: float
+    lam: float
+    phi0: float
+    w: float
+    x_c: float
+    x_b: float
+    outer_radius: float
+    lock_arc_radius: float
+    lock_disc_radius: float
+    hub_max: float
+    slot_depth: float
+    beta_c: float
+    gamma: float
+    land_angle: float
+    lock_half_angle: float
+
+    @property
+    def lock_arc_range(self) -> tuple[float, float]:
+        """Admissible R_arc: (A − R_o, r − w]; at r − w the horns are knife edges (mm)."""
+        return self.center_distance - self.outer_radius, self.crank_radius - self.w
+
+
+def wheel_dimensions(slots: int, center_distance: float, roller_radius: float, clearance: Clearances,
+                     lock_arc_radius: float | None = None) -> WheelDimensions:
+    """Closed-form wheel sizes for z slots, centre distance A (mm) and roller radius r_p (mm).
+
+    Pure arithmetic; impossible values come out as NaN or out of range and are judged by the
+    caller (``parse`` turns them into messages). ``lock_arc_radius`` None: r − 1.5·w.
+    """
+    z = int(slots)
+    a = float(center_distance)
+    lam = math.sin(math.pi / z)
+    r = a * lam
+    w = roller_radius + clearance.slot
+    x_c = a * math.cos(math.pi / z)
+    x_b = a - r - clearance.bottom
+    r_o = math.hypot(x_c, w)
+    r_arc = r - LOCK_ARC_FACTOR * w if lock_arc_radius is None else float(lock_arc_radius)
+    cos_g = (a * a + r_o * r_o - r_arc * r_arc) / (2.0 * a * r_o)
+    gamma = math.acos(cos_g) if -1.0 <= cos_g <= 1.0 else math.nan
+    cos_l = (a * a + r_arc * r_arc - r_o * r_o) / (2.0 * a * r_arc) if r_arc > 0 else math.nan
+    beta_l = math.acos(cos_l) if -1.0 <= cos_l <= 1.0 else math.nan
+    beta_c = math.atan2(w, x_c)
+    return WheelDimensions(
+        slots=z, center_distance=a, crank_radius=r, lam=lam, phi0=math.pi / 2 - math.pi / z, w=w,
+        x_c=x_c, x_b=x_b, outer_radius=r_o, lock_arc_radius=r_arc,
+        lock_disc_radius=r_arc - clearance.lock, hub_max=x_b - w, slot_depth=x_c - (x_b - w),
+        beta_c=beta_c, gamma=gamma, land_angle=math.pi / z - beta_c - gamma, lock_half_angle=beta_l)
+
+
+@dataclass(frozen=True)
+class Geneva:
+    """A Geneva-drive element of a scene (type ``"geneva"``): external, radial entry, z ≥ 3.
+
+    Lengths mm; ``wheel_direction_deg`` is the direction from ``crank_center`` to the wheel centre;
+    positive ``speed_rpm`` turns the crank counter-clockwise. ``samples`` is the default number of
+    samples N over one crank revolution (φ_k = −π + 2πk/N for a CCW crank).
+    """
+
+    id: str
+    slots: int
+    center_distance: float
+    roller_radius: float
+    roller_length: float = DEFAULT_ROLLER_LENGTH
+    clearance: Clearances = Clearances()
+    crank_center: XYTuple = (0.0, 0.0)
+    wheel_direction_deg: float = 0.0
+    speed_rpm: float = DEFAULT_SPEED_RPM
+    load: Load = Load()
+    roller_material: Material = Material()
+    wheel_material: Material = Material()
+    wear: Wear = Wear()
+    samples: int = DEFAULT_SAMPLES
+    contact_model: ContactModel | None = None
+    drawing: Drawing | None = None
+    type: str = field(default="geneva", init=False)
+
+    # -- derived constants ----------------------------------------------------------------
+    @property
+    def lam(self) -> float:
+        """λ = r/A = sin(π/z), the invariant of geometric similarity (radial entry only, B9)."""
+        return math.sin(math.pi / self.slots)
+
+    @property
+    def crank_radius(self) -> float:
+        """r = A·sin(π/z) (mm)."""
+        return self.center_distance * self.lam
+
+    @property
+    def phi0(self) -> float:
+        """Half the engagement angle, φ0 = π/2 − π/z (rad)."""
+        return math.pi / 2 - math.pi / self.slots
+
+    @property
+    def omega1(self) -> float:
+        """Crank angular speed ω1 (rad/s, signed, CCW positive)."""
+        return self.speed_rpm * math.pi / 30.0
+
+    @property
+    def wheel_center(self) -> XYTuple:
+        """World position of the wheel centre O2 (mm)."""
+        d = math.radians(self.wheel_direction_deg)
+        return (self.crank_center[0] + self.center_distance * math.cos(d),
+                self.crank_center[1] + self.center_distance * math.sin(d))
+
+    @property
+    def model(self) -> ContactModel:
+        """The contact-model choices in force (defaults when the scene gives none)."""
+        return self.contact_model or ContactModel()
+
+    def dimensions(self) -> WheelDimensions:
+        """Closed-form wheel sizes (see :func:`wheel_dimensions`)."""
+        lock = self.drawing.locking_arc_radius if self.drawing else None
+        return wheel_dimensions(self.slots, self.center_distance, self.roller_radius, self.clearance, lock)
+
+    # -- analyses (in mechsketch.core.analyses; imported lazily: model < analyses) -----------
+    def kinematics(self, samples: int | None = None):
+        """Wheel angle, ω, α, jerk over one crank revolution: see
+        :func:`mechsketch.core.analyses.geneva_kinematics.kinematics`."""
+        from ..analyses.geneva_kinematics import kinematics
+
+        return kinematics(self, samples or self.samples)
+
+    def contact(self, samples: int | None = None, model: ContactModel | None = None):
+        """Roller/slot contact and wear after Stetsiv, corrected: see
+        :func:`mechsketch.core.analyses.geneva_contact.contact`."""
+        from ..analyses.geneva_contact import contact
+
+        return contact(self, samples or self.samples, model or self.model)
+
+    def geometry(self):
+        """Wheel, locking disc, crank arm and roller as exact lines and arcs: see
+        :func:`mechsketch.core.analyses.geneva_geometry.geometry` (raises GeometryError)."""
+        from ..analyses.geneva_geometry import geometry
+
+        return geometry(self)
+
+    def to_dict(self) -> dict:
+        d: dict[str, Any] = {
+            "type": "geneva", "id": self.id, "slots": self.slots,
+            "center_distance": self.center_distance, "roller_radius": self.roller_radius,
+            "roller_length": self.roller_length, "clearance": self.clearance.to_dict(),
+            "crank_center": [self.crank_center[0], self.crank_center[1]],
+            "wheel_direction_deg": self.wheel_direction_deg, "speed_rpm": self.speed_rpm,
+            "load": self.load.to_dict(),
+            "material": {"roller": self.roller_material.to_dict(), "wheel": self.wheel_material.to_dict()},
+            "wear": self.wear.to_dict(), "samples": self.samples,
+        }
+        if self.contact_model is not None:
+            d["contact_model"] = self.contact_model.to_dict()
+        if self.drawing is not None:
+            d["drawing"] = self.drawing.to_dict()
+        return d
+
+
+# -- parsing ------------------------------------------------------------------------------
+def _num(x: float) -> str:
+    return f"{x:.6g}"
+
+
+class _Checker:
+    """Collects problems for one element; messages name the limit and the amount of violation."""
+
+    def __init__(self, path: str, eid: str) -> None:
+        self.path, self.eid, self.problems = path, eid, []
+
+    def bad(self, where: str, msg: str) -> None:
+        self.problems.append(Problem(f"{self.path}.{where}", msg, self.eid))
+
+    def positive(self, where: str, value: float, unit: str) -> bool:
+        if value > 0:
+            return True
+        self.bad(where, f"must be > 0 {unit}; got {_num(value)} {unit} "
+                        f"({_num(-value)} {unit} at or below the limit)".replace("  ", " "))
+        return False
+
+    def non_negative(self, where: str, value: float, unit: str) -> bool:
+        if value >= 0:
+            return True
+        self.bad(where, f"must be >= 0 {unit}; got {_num(value)} {unit} ({_num(-value)} {unit} "
+                        "below the limit)".replace("  ", " "))
+        return False
+
+
+def _sub(data: dict, key: str, defaults: dict) -> dict:
+    out = dict(defaults)
+    out.update({k: float(v) for k, v in data.get(key, {}).items()})
+    return out
+
+
+def parse(data: dict[str, Any], path: str) -> tuple[Geneva | None, list[Problem]]:
+    """Check a schema-valid geneva dict for meaning; return the element (or None) and problems.
+
+    Checks: z ≥ 3; positive sizes, moduli, speed and wear data; clearances ≥ 0; Poisson's ratio in
+    (−1, 0.5); then the wheel geometry: a locking arc between A − R_o and r − w, a locking disc of
+    positive radius, a land between slots (horn land angle > 0), a slot of positive length, a hub
+    around the bore (slot bottoms outside the bore), a non-self-locking journal
+    (f02·r02 < A − r), a roller pin inside the roller, a crank bore inside the locking disc.
+    """
+    eid = data["id"]
+    ck = _Checker(path, eid)
+    z = data["slots"]
+    if z < 3:
+        ck.bad("slots", f"a Geneva drive needs at least 3 slots; got {z} ({3 - z} short)")
+    a = float(data["center_distance"])
+    rp = float(data["roller_radius"])
+    length = float(data.get("roller_length", DEFAULT_ROLLER_LENGTH))
+    sizes_ok = all([ck.positive("center_distance", a, "mm"), ck.positive("roller_radius", rp, "mm"),
+                    ck.positive("roller_length", length, "mm")])
+    cl = _sub(data, "clearance", DEFAULT_CLEARANCE)
+    for k in ("slot", "bottom", "lock"):
+        sizes_ok &= ck.non_negative(f"clearance.{k}", cl[k], "mm")
+    speed = float(data.get("speed_rpm", DEFAULT_SPEED_RPM))
+    if speed == 0.0:
+        ck.bad("speed_rpm", "must not be zero (the sign gives the direction: positive turns the crank CCW)")
+    ld = _sub(data, "load", DEFAULT_LOAD)
+    ck.non_negative("load.wheel_inertia", ld["wheel_inertia"], "kg·m²")
+    ck.non_negative("load.journal_friction", ld["journal_friction"], "")
+    ck.non_negative("load.journal_radius", ld["journal_radius"], "mm")
+    mats = {}
+    for part in ("roller", "wheel"):
+        md = dict(STEEL)
+        md.update({k: float(v) for k, v in data.get("material", {}).get(part, {}).items()})
+        ck.positive(f"material.{part}.E", md["E"], "MPa")
+        nu = md["poisson"]
+        if not -1.0 < nu < 0.5:
+            lim, by = (0.5, nu - 0.5) if nu >= 0.5 else (-1.0, -1.0 - nu)
+            ck.bad(f"material.{part}.poisson", f"Poisson's ratio must lie in (−1, 0.5); got {_num(nu)} "
+                                               f"({_num(by)} beyond the limit {lim})")
+        mats[part] = Material(md["E"], md["poisson"])
+    wd = _sub(data, "wear", DEFAULT_WEAR)
+    ck.positive("wear.allowed_wear", wd["allowed_wear"], "mm")
+    ck.positive("wear.specific_wear_rate", wd["specific_wear_rate"], "mm³/(N·m)")
+    samples = int(data.get("samples", DEFAULT_SAMPLES))
+    if samples < 2:
+        ck.bad("samples", f"must be at least 2; got {samples} ({2 - samples} short)")
+    cm = None
+    if "contact_model" in data:
+        cm = ContactModel(**{**ContactModel().to_dict(), **data["contact_model"]})
+    dr = None
+    if "drawing" in data:
+        dr = Drawing(**{k: float(v) for k, v in data["drawing"].items()})
+        for k, v in dr.to_dict().items():
+            if k == "locking_arc_radius":
+                ck.positive(f"drawing.{k}", v, "mm")
+            else:
+                ck.non_negative(f"drawing.{k}", v, "mm")
+    clearance = Clearances(cl["slot"], cl["bottom"], cl["lock"])
+    if z >= 3 and sizes_ok and not ck.problems:
+        _check_geometry(ck, z, a, rp, clearance, ld, dr)
+    if ck.problems:
+        return None, ck.problems
+    cc = data.get("crank_center", [0.0, 0.0])
+    el = Geneva(eid, int(z), a, rp, length, clearance, (float(cc[0]), float(cc[1])),
+                float(data.get("wheel_direction_deg", 0.0)), speed, Load(**ld), mats["roller"],
+                mats["wheel"], Wear(**wd), samples, cm, dr)
+    return el, []
+
+
+def _check_geometry(ck: _Checker, z: int, a: float, rp: float, cl: Clearances, ld: dict,
+                    dr: Drawing | None) -> None:
+    """Wheel-geometry limits (mm, degrees in messages)."""
+    dims = wheel_dimensions(z, a, rp, cl, dr.locking_arc_radius if dr else None)
+    lo, hi = dims.lock_arc_range
+    arc_key = "drawing.locking_arc_radius" if dr and dr.locking_arc_radius is not None else "roller_radius"
+    what = "locking_arc_radius" if arc_key.startswith("drawing") else "the default locking arc radius r − 1.5·w"
+    if hi <= lo:
+        ck.bad("roller_radius", f"roller too large for the crank: r − w = {_num(hi)} mm must exceed "
+                                f"A − R_o = {_num(lo)} mm for any locking arc to exist (short by "
+                                f"{_num(lo - hi)} mm); reduce roller_radius or clearance.slot, or use "
+                                "fewer slots or a larger center_distance")
+        return
+    r_arc = dims.lock_arc_radius
+    if not r_arc > lo:
+        ck.bad(arc_key, f"{what} = {_num(r_arc)} mm must exceed A − R_o = {_num(lo)} mm (short by "
+                        f"{_num(lo - r_arc)} mm): the locking arc would not meet the outer circle; reduce "
+                        "roller_radius or clearance.slot")
+        return
+    if r_arc > hi:
+        ck.bad(arc_key, f"{what} = {_num(r_arc)} mm exceeds r − w = {_num(hi)} mm by {_num(r_arc - hi)} "
+                        "mm: the locking arc would cut into the slot walls")
+        return
+    if not dims.lock_disc_radius > 0:
+        ck.bad("clearance.lock", f"the locking disc radius R_arc − c_l = {_num(dims.lock_disc_radius)} mm "
+                                 f"must be > 0 (clearance.lock is {_num(-dims.lock_disc_radius)} mm too large)")
+    if not dims.land_angle > 0:
+        ck.bad("roller_radius", f"no land between slots: the horn land angle π/z − β_c − γ is "
+                                f"{math.degrees(dims.land_angle):.4g}°, must be > 0° (short by "
+                                f"{-math.degrees(dims.land_angle):.4g}°); reduce roller_radius or clearance.slot")
+    if not dims.x_c > dims.x_b:
+        ck.bad("clearance.bottom", f"the slot has no straight walls: bottom centre x_b = {_num(dims.x_b)} mm "
+                                   f"is not inside the corner line x_c = {_num(dims.x_c)} mm (by "
+                                   f"{_num(dims.x_b - dims.x_c)} mm)")
+    bore = ld["journal_radius"] if dr is None or dr.wheel_bore_radius is None else dr.wheel_bore_radius
+    bore_key = "load.journal_radius" if dr is None or dr.wheel_bore_radius is None else "drawing.wheel_bore_radius"
+    if not dims.hub_max > bore:
+        ck.bad(bore_key, f"no hub: the slot bottoms reach radius x_b − w = {_num(dims.hub_max)} mm, which "
+                         f"must exceed the wheel bore radius {_num(bore)} mm (short by "
+                         f"{_num(bore - dims.hub_max)} mm); reduce roller_radius, clearance.bottom or the "
+                         "bore, or increase center_distance")
+    lever = a - dims.crank_radius
+    fr = ld["journal_friction"] * ld["journal_radius"]
+    if not fr < lever:
+        ck.bad("load.journal_friction", f"self-locking journal: f02·r02 = {_num(fr)} mm must be below the "
+                                        f"shortest roller lever A − r = {_num(lever)} mm (over by {_num(fr - lever)} mm)")
+    if dr is not None and dr.pin_radius is not None and not dr.pin_radius < rp:
+        ck.bad("drawing.pin_radius", f"the roller pin radius {_num(dr.pin_radius)} mm must be below the roller "
+                                     f"radius {_num(rp)} mm (over by {_num(dr.pin_radius - rp)} mm)")
+    if dr is not None and dr.crank_bore_radius is not None:
+        # necessary bound: the relief is at least R_o + c_l, so the disc's thinnest section is below it
+        room = a - dims.outer_radius - cl.lock
+        if not dr.crank_bore_radius < room:
+            ck.bad("drawing.crank_bore_radius", f"the crank bore radius {_num(dr.crank_bore_radius)} mm must be "
+                                                f"below A − R_o − c_l = {_num(room)} mm, the locking disc's "
+                                                f"thinnest section at most (over by "
+                                                f"{_num(dr.crank_bore_radius - room)} mm)")
+
+
+def require_valid(element: Geneva) -> WheelDimensions:
+    """The element's wheel dimensions; :class:`GeometryError` if an element built in code (not
+    parsed) violates a limit that ``parse`` checks."""
+    _, problems = parse(element.to_dict(), "$")
+    if problems:
+        raise GeometryError(f"geneva {element.id!r}: " + "; ".join(p.message for p in problems))
+    return element.dimensions()
