@@ -4,8 +4,8 @@ Four stacked plots sharing the x axis (input angle, °): position (joint x, y in
 velocity (vx, vy, |v| in mm/s; ω in rad/s), acceleration (ax, ay, |a| in mm/s²; ε in rad/s²) and the
 transmission angle μ (°) of every RRR group. Plots read the controller's precomputed solution;
 NaN (a pose that cannot be assembled) breaks the line (``connect="finite"``). A vertical cursor
-follows the animation frame. The plotted data exports as CSV (a core :class:`Table`) and the
-plots as a PNG.
+follows the animation frame, and a click on a plot moves the frame there. The plotted data
+exports as CSV (a core :class:`Table`) and the plots as a PNG.
 """
 from __future__ import annotations
 
@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 import pyqtgraph as pg
 from pyqtgraph.exporters import ImageExporter
+from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QHBoxLayout, QLabel, QToolButton, QVBoxLayout, QWidget
 
 from mechsketch.core import ExportError
@@ -46,6 +47,7 @@ class PlotData:
 
     title: str
     x: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    valid: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
     series: list[Series] = field(default_factory=list)
     labels: dict[str, str] = field(default_factory=dict)   # plot -> y-axis label with unit
 
@@ -85,7 +87,7 @@ def plot_data(controller: SceneController) -> PlotData:
     if res is None or res.solution is None:
         return PlotData(f"{lk.id} is not solved: {res.error if res else 'no result'}")
     sol = res.solution
-    data = PlotData(f"{kind} {ident} of {lk.id}", np.degrees(sol.input))
+    data = PlotData(f"{kind} {ident} of {lk.id}", np.degrees(sol.input), np.asarray(sol.valid, dtype=bool))
     S = data.series
     try:
         if kind == "joint":
@@ -175,6 +177,7 @@ class PlotsPanel(QWidget):
         controller.solutionsChanged.connect(self._invalidate)
         controller.selectionChanged.connect(self._invalidate)
         controller.frameChanged.connect(self._move_cursor)
+        self.graphics.scene().sigMouseClicked.connect(self._clicked)
         self.refresh()
 
     def add_header_actions(self, actions) -> None:
@@ -237,6 +240,28 @@ class PlotsPanel(QWidget):
             cursor.setVisible(visible)
             if visible:
                 cursor.setValue(float(x[frame]))
+
+    def frame_at(self, x: float) -> int | None:
+        """The assemblable sample whose input angle (°) is nearest ``x``; None if there is none."""
+        data = self.data
+        if not data.x.size or not data.valid.any():
+            return None
+        distance = np.where(data.valid, np.abs(data.x - x), np.inf)
+        return int(np.argmin(distance))
+
+    def go_to(self, x: float) -> None:
+        """Move the animation frame to the input angle ``x`` (°), as a click on a plot does."""
+        frame = self.frame_at(x)
+        if frame is not None:
+            self.controller.set_frame(frame)
+
+    def _clicked(self, event) -> None:
+        if event.button() != Qt.MouseButton.LeftButton:
+            return
+        for plot in self.plots.values():
+            if plot.vb.sceneBoundingRect().contains(event.scenePos()):
+                self.go_to(plot.vb.mapSceneToView(event.scenePos()).x())
+                return
 
     def cursor_x(self) -> float:
         """Where the cursor is (input angle, °)."""

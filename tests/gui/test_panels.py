@@ -245,3 +245,17 @@ def test_a_scene_without_a_linkage_lists_its_elements(shell):
     assert "no linkage" in w.plots.title.text()
     labels = [lab.text() for lab in w.properties._content.findChildren(type(w.plots.title))]
     assert "gear1" in labels
+
+
+def test_a_click_on_a_plot_moves_the_frame_to_the_nearest_assemblable_pose(shell):
+    parts = shell(resources.example_path("double_rocker"))
+    c, plots = parts.controller, parts.window.plots
+    sol = c.result("double_rocker").solution
+    ok = np.flatnonzero(sol.valid)
+    k = int(ok[len(ok) // 2])
+    plots.go_to(float(np.degrees(sol.input[k])) + 0.1)
+    assert c.frame == k
+    gap = int(np.flatnonzero(~sol.valid)[len(np.flatnonzero(~sol.valid)) // 2])   # middle of the gap
+    plots.go_to(float(np.degrees(sol.input[gap])))
+    assert sol.valid[c.frame]
+    assert plots.cursor_x() == pytest.approx(np.degrees(sol.input[c.frame]))
