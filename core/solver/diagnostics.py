@@ -166,6 +166,8 @@ def diagnose(sol: Solution) -> Diagnostics:
     for g in sol.groups:
         if g.kind == "RRR" and valid.any():
             mu = np.degrees(sol.transmission_angle(g.name))
-            trans[g.name] = (float(np.nanmin(mu)), float(np.nanmax(mu)))
+            mu = mu[np.isfinite(mu)]
+            if mu.size:
+                trans[g.name] = (float(mu.min()), float(mu.max()))
     return Diagnostics(plan.mobility, groups, n, float(valid.mean()), reachable, dead, trans,
                        sol.elapsed, sol.residual(), full)
