@@ -174,7 +174,8 @@ def point_measures(geom: LeverGeometry, theta, alpha, F, P, u1, u2, S5, ref: Exa
     rel = moved - np.diff(S5)[:, None] * np.asarray(geom.ds)
     slip_e = float(np.sum(np.linalg.norm(rel, axis=1)))
     e = (F - np.asarray(geom.G)) / geom.ell
-    off = np.abs(np.cross(e, P - np.asarray(geom.G)))
+    r = P - np.asarray(geom.G)
+    off = np.abs(e[:, 0] * r[:, 1] - e[:, 1] * r[:, 0])
     dev = float(np.max(ref.distance(P))) if ref is not None else math.nan
     return PointMeasures(len(P) - 1, arc, slip, slip_e, float(off.max()), dev)
 
@@ -286,7 +287,9 @@ def _wrap(x: np.ndarray) -> np.ndarray:
 
 def continuous_measures(path: ExactPath, start: float, end: float) -> ContinuousMeasures:
     """Measures of the computed motion over θ ∈ start → end (inside the path), Gauss–Legendre on
-    each mesh interval, derivatives by fourth-order central differences of the dense output."""
+    each mesh interval, derivatives by fourth-order central differences of the dense output; any
+    jump of the computed motion at a mesh node (dense value from the left against the node value)
+    is added to the slip and to the lengths."""
     geom = path.geom
     lo, hi = min(start, end), max(start, end)
     th = path.theta
@@ -329,7 +332,23 @@ def continuous_measures(path: ExactPath, start: float, end: float) -> Continuous
     r = st_c.P0 - st_c.F
     v_lever = geom.ell * da[:, None] * ep + np.stack([-r[:, 1], r[:, 0]], axis=-1)
     slip_e = np.linalg.norm(v_lever - ds5[:, None] * ds, axis=1)
-    return ContinuousMeasures(
-        slip_d=float(w @ slip_d), slip_e=float(w @ slip_e),
-        length_fixed=float(w @ np.linalg.norm(dP, axis=1)), length_moving=float(geom.R1 * (w @ np.abs(du1))),
-        length_slider=float(w @ np.linalg.norm(dQ, axis=1)), length_lever_e=float(geom.R2 * (w @ np.abs(du2))))
+    out = [float(w @ slip_d), float(w @ slip_e), float(w @ np.linalg.norm(dP, axis=1)),
+           float(geom.R1 * (w @ np.abs(du1))), float(w @ np.linalg.norm(dQ, axis=1)),
+           float(geom.R2 * (w @ np.abs(du2)))]
+    # jumps of the computed motion at inner mesh nodes (dense value from the left against the node)
+    inner = np.flatnonzero((th > lo) & (th < hi))
+    inner = inner[inner > 0]
+    if len(inner):
+        a_l, s_l = path.at(th[inner], base=inner - 1)
+        left = pose_state(geom, a_l, th[inner])
+        node = pose_state(geom, path.alpha[inner], th[inner])
+        dF = node.F - left.F
+        out[0] += float(np.sum(np.linalg.norm(dF, axis=1)))
+        out[1] += float(np.sum(np.linalg.norm(dF - (path.S5[inner] - s_l)[:, None] * ds, axis=1)))
+        out[2] += float(np.sum(np.linalg.norm(node.P - left.P, axis=1)))
+        out[3] += float(geom.R1 * np.sum(np.abs(_wrap(node.u1 - left.u1))))
+        qn = node.P0 - path.S5[inner][:, None] * ds
+        ql = left.P0 - s_l[:, None] * ds
+        out[4] += float(np.sum(np.linalg.norm(qn - ql, axis=1)))
+        out[5] += float(geom.R2 * np.sum(np.abs(_wrap(node.u2 - left.u2))))
+    return ContinuousMeasures(*out)
