@@ -166,7 +166,7 @@ def kinematics(element: "Geneva", samples: int) -> GenevaKinematics:
     t = k * period / n
     eng = np.abs(u) <= phi0 + EDGE_TOL
     pe = np.where(eng, phi, 0.0)
-    angle = np.where(eng, -wheel_angle(pe, lam), -np.sign(phi) * math.pi / z)
+    angle = np.where(eng, -wheel_angle(pe, lam), -np.sign(phi) * math.pi / z) + 0.0  # no −0.0
     omega = np.where(eng, -velocity_ratio(pe, lam) * w1, 0.0)
     alpha = np.where(eng, -accel_ratio(pe, lam) * w1 * w1, 0.0)
     jerk = np.where(eng, -jerk_ratio(pe, lam) * w1 ** 3, 0.0)
