@@ -5,7 +5,8 @@ relative to the frame is P = X + J v_X / ω (J the 90° rotation): the point of 
 velocity. Relative to another link L, velocities relative to L are used: v_rel = v_X − v_L(X)
 with v_L(X) = v_Y + ω_L J (X − Y) for a point Y of L, and ω_rel = ω_K − ω_L. Where |ω_rel| is
 below ``rel_tol`` times the largest angular speed of the motion, the relative motion is a pure
-translation (centre at infinity): the sample is flagged, not an error.
+translation (centre at infinity), or at rest for an instant (centre undefined): the sample is
+flagged, not an error.
 
 The fixed centrode is the locus of P in the frame (or, with ``relative_to``, in L's own frame,
 drawn-pose coordinates); the moving centrode is the locus of P in K's own frame (drawn-pose
@@ -38,7 +39,7 @@ class Centrodes:
     ``input`` (N,) rad: driver angle; ``P`` (N, 2) mm: fixed-centrode point (in the frame, or in
     the reference link's frame); ``p`` (N, 2) mm: moving-centrode point in the link's frame;
     ``valid`` (N,) bool: False where the solution is invalid or the relative motion is a pure
-    translation (then P and p are NaN); ``omega_rel`` (N,) rad/s.
+    translation or at rest (``translation`` True; then P and p are NaN); ``omega_rel`` (N,) rad/s.
     """
 
     link: str
