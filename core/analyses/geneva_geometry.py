@@ -41,8 +41,8 @@ RELIEF_ROUND = 1e-3
 #: crank-angle grid for the relief search, and zoom levels/points around the best maxima
 RELIEF_GRID = 601
 RELIEF_ZOOM = (8, 41)
-#: a point counts as inside the disc only if it is this far inside (relative to A)
-INSIDE_TOL = 1e-9
+#: a point counts as inside the disc only if it is this far inside (relative to A): touching is allowed
+INSIDE_TOL = 1e-12
 
 
 def wheel_outline(d: WheelDimensions) -> Contour:
@@ -117,8 +117,11 @@ def relief_values(phi: np.ndarray, offset: Contour, d: WheelDimensions) -> np.nd
     """V(φ): farthest distance (mm) from the relief centre (A, 0) of any point of the disc
     (radius R_L) covered by the offset wheel at crank angles ``phi`` (rad, shape (N,)); −inf where
     the offset wheel does not reach the disc. Closed form per angle (see the module docstring)."""
-    a, rl = d.center_distance, d.lock_disc_radius
+    a = d.center_distance
     tol = INSIDE_TOL * a
+    # the disc shrunk by ``tol``: an outline that only touches the disc (c_l reached exactly, as in
+    # the dwell) yields no candidate, one that enters it by more than ``tol`` does
+    rl = d.lock_disc_radius - tol
     phi = np.asarray(phi, float)
     rot = -phi - wheel_angle(phi, d.lam)  # wheel frame -> crank frame
     cr, sr = np.cos(rot)[:, None], np.sin(rot)[:, None]
@@ -131,7 +134,7 @@ def relief_values(phi: np.ndarray, offset: Contour, d: WheelDimensions) -> np.nd
     best = np.full(phi.shape, -np.inf)
     x0, y0 = move(sg.p0)
     r0 = np.hypot(x0, y0)
-    val = np.where(r0 <= rl - tol, np.hypot(x0 - a, y0), -np.inf)
+    val = np.where(r0 <= rl, np.hypot(x0 - a, y0), -np.inf)
     best = np.maximum(best, val.max(axis=1))
     # lines: crossings with the disc circle
     ln = ~sg.is_arc
@@ -160,7 +163,7 @@ def relief_values(phi: np.ndarray, offset: Contour, d: WheelDimensions) -> np.nd
         dq = np.hypot(cx - a, cy)
         ang = np.arctan2(cy, cx - a)
         fx, fy = cx + rad * np.cos(ang), cy + rad * np.sin(ang)
-        ok = _in_sweep(ang, a0, th) & (np.hypot(fx, fy) <= rl - tol)
+        ok = _in_sweep(ang, a0, th) & (np.hypot(fx, fy) <= rl)
         best = np.maximum(best, np.where(ok, dq + rad, -np.inf).max(axis=1))
         # (c) crossings of each arc with the disc circle
         dc = np.hypot(cx, cy)
