@@ -81,7 +81,7 @@ def _march(k: ScalarKernel, m: _March, target: float, rate: float, h: float, hmi
     step no longer than ``hmin`` still leaves the working range.
     """
     th, a, s = m.theta[-1], m.alpha[-1], m.s5[-1]
-    floor = 16.0 * np.finfo(float).eps * max(k.ell, 1.0)  # round-off level of one step (mm)
+    floor = 4.0 * np.finfo(float).eps * max(k.ell, 1.0)  # round-off level of one step (mm)
     direction = 1.0 if target > th else -1.0
     while (target - th) * direction > 0.0:
         step = min(abs(h), hmax, abs(target - th))

@@ -102,9 +102,11 @@ def corrected(geom: LeverGeometry, start: tuple[float, float], u_start: float, u
               ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The corrected construction (same interface as :func:`literal`): π_k on the current rocker line.
 
-    Each step solves the 2×2 system by Newton's method from the literal step's pose.
+    Each step solves the 2×2 system by Newton's method, the first from the paper's first step, the
+    others from the poses extrapolated from the two before.
     """
-    th_lit, a_lit, _, _, u = literal(geom, start, u_start, u_end, n)
+    u = np.linspace(u_start, u_end, n + 1)
+    th_lit, a_lit, _, _, _ = literal(geom, start, u_start, u[1], 1)  # first guess: the paper's first step
     lev = _lever_points(geom, u)
     gx, gy = geom.G
     fx, fy = geom.f
@@ -146,7 +148,9 @@ def corrected(geom: LeverGeometry, start: tuple[float, float], u_start: float, u
             if abs(da) + abs(dt) < 1e-15:
                 break
         else:
-            raise GeometryError(f"the corrected construction did not converge at step {k} of {n}")
+            raise GeometryError(f"the corrected construction did not converge at step {k} of {n} (θ ≈ {t:.6f} rad): "
+                                "no pose puts π_k on the rocker line there, as happens close to the end of the "
+                                "working range where the rocker line is almost tangent to the lever circle")
         th[k], al[k] = t, a
         P[k] = lever_map(geom, al[k:k + 1], th[k:k + 1], lev[k:k + 1])[0]
     F = np.stack([gx + ell * np.cos(al), gy + ell * np.sin(al)], axis=-1)

@@ -79,6 +79,8 @@ def summary(res: "RollingSynthesis") -> str:
             else:
                 lines.append(f"note: the corrected construction converges as N⁻²: kinematic slip {a:.3e} mm with "
                              f"N = {n}, {b:.3e} mm with N = {2 * n} (ratio {a / b:.2f})")
+        if rep.refined_error:
+            lines.append(f"note: with N = {2 * n} points {rep.refined_error}")
         lines.append(f"  (measures computed in {rep.time_s * 1e3:.0f} ms)")
     d = res.drive
     if d is not None:

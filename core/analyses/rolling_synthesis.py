@@ -21,7 +21,7 @@ from ..io.table import Table
 from ..model.rolling_lever import METHODS, RollingLever
 from .rolling_drive import DriveSynthesis, synthesize_drive
 from .rolling_exact import ExactPath, WorkingRange, exact_path, march_limit
-from .rolling_geometry import LeverGeometry, pose_state, slider_point
+from .rolling_geometry import LeverGeometry, PoseState, pose_state, slider_point
 from .rolling_paper import construct
 from .rolling_slip import (ContinuousMeasures, ExactReference, NaturalSpline, PhysicalSlip, PointMeasures,
                            continuous_measures, physical_slip, point_measures, reference_for)
@@ -34,7 +34,8 @@ class SlipReport:
     """Every residual-slip figure of one synthesis (mm); ``continuous`` only for the exact method.
 
     ``refined`` holds the point measures of the same method with 2N intervals (for the paper's
-    method this shows the plateau: the kinematic slip does not fall).
+    method this shows the plateau: the kinematic slip does not fall); ``refined_error`` says why
+    it is missing when the construction with 2N intervals failed.
     """
 
     points: PointMeasures
@@ -42,6 +43,7 @@ class SlipReport:
     continuous: ContinuousMeasures | None
     refined: PointMeasures | None
     time_s: float
+    refined_error: str | None = None
 
 
 @dataclass
@@ -88,6 +90,14 @@ class RollingSynthesis:
                                   self.u1, self.P0[:, 0], self.P0[:, 1], self.u2, self.k53, self.S5,
                                   self.Q[:, 0], self.Q[:, 1])))
         return Table.from_columns(cols)
+
+    def pose(self, theta: np.ndarray) -> tuple[PoseState, np.ndarray]:
+        """The exact motion at lever rotations θ (M,) rad inside the stroke: the pose state (pin F,
+        contacts P and P0, circle centres, contact angles; mm, rad) and S5 (M,) mm (for animation
+        without a crank; with one, see ``drive.frames``)."""
+        theta = np.atleast_1d(np.asarray(theta, dtype=float))
+        a, s5 = self.path.at(theta)
+        return pose_state(self.geom, a, theta), s5
 
     # -- curves for drawing and export --------------------------------------------------------
     def frame_profile(self) -> tuple[Callable[[np.ndarray], np.ndarray], float, float]:
@@ -212,10 +222,16 @@ def slip_report(res: RollingSynthesis, physical_range: tuple[float, float] | Non
     stroke = res.element.stroke
     cont = continuous_measures(res.path, stroke.start, stroke.end) if res.method == "exact" else None
     refined = None
+    refined_error = None
     if refine and res.method != "exact":
-        twice = synthesize(res.element, res.method, 2 * res.points, measures=False)
-        refined = point_measures(geom, twice.theta, twice.alpha, twice.F, twice.P, twice.u1, twice.u2, twice.S5, ref)
-    return SlipReport(pm, ph, cont, refined, time.perf_counter() - t0)
+        try:
+            twice = synthesize(res.element, res.method, 2 * res.points, measures=False)
+        except GeometryError as exc:  # the construction itself may fail with more points near the range end
+            refined_error = str(exc)
+        else:
+            refined = point_measures(geom, twice.theta, twice.alpha, twice.F, twice.P, twice.u1, twice.u2,
+                                     twice.S5, ref)
+    return SlipReport(pm, ph, cont, refined, time.perf_counter() - t0, refined_error)
 
 
 @dataclass(frozen=True)

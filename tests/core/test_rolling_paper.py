@@ -107,3 +107,22 @@ def test_summary_says_plainly_that_the_paper_levels_off():
     assert "1.011" in text  # its kinematic slip with N = 64
     res = synthesize(ref.element(method="corrected", points=64))
     assert "converges as N⁻²" in res.summary()
+
+
+def test_constructions_close_to_the_end_of_the_working_range():
+    """The compass constructions cannot follow the lever to the rocker's tangency; they say so."""
+    from mechsketch.core.analyses.rolling_exact import working_range
+    from mechsketch.core.analyses.rolling_geometry import LeverGeometry
+    from mechsketch.core.errors import GeometryError
+
+    lim = working_range(LeverGeometry.from_element(ref.element())).lower
+    el = ref.element(stroke={"from": 0.0, "to": lim + 1e-7})
+    with pytest.raises(GeometryError, match=r"the paper's construction fails at step 7\d of 100: the circle about P_7\d"):
+        synthesize(el, "paper", 100, measures=False)
+    with pytest.raises(GeometryError, match=r"corrected construction did not converge at step 98 of 100 .*almost tangent"):
+        synthesize(el, "corrected", 100, measures=False)
+    assert synthesize(el, "exact", 100).slip.continuous.worst < 1e-9  # the exact method gets there
+    # 1e-3 rad from the end: N = 100 works, 2N does not; the summary says so instead of failing
+    res = synthesize(ref.element(stroke={"from": 0.0, "to": lim + 1e-3}), "corrected", 100)
+    assert res.slip.refined is None
+    assert "note: with N = 200 points the corrected construction did not converge" in res.summary()
