@@ -80,6 +80,8 @@ def short_error(error: str) -> str:
         return f"incomplete: mobility {m.group(1)} (a driven linkage needs 1)"
     if "no driver" in error:
         return "incomplete: no driver yet - add a crank (C)"
+    if error.startswith("cannot be assembled at input"):
+        return error
     first = error.split(". ")[0].split("\n")[0]
     return first if len(first) <= 90 else first[:87] + "..."
 

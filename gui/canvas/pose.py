@@ -197,10 +197,15 @@ class PoseCache:
             res = controller.result(el.id)
             arrays = self.arrays(el, res)
             pose = None
+            note = res.error if res is not None else None
             if arrays is not None:
-                pose = sample_pose(arrays, el, map_frame(frame, total, arrays.n))
+                k = map_frame(frame, total, arrays.n)
+                pose = sample_pose(arrays, el, k)
+                if pose is None:
+                    deg = math.degrees(math.remainder(float(arrays.solution.input[k]), 2 * math.pi))
+                    note = f"cannot be assembled at input {deg:.1f}° - showing the drawn pose"
             if pose is None:
-                pose = drawn_pose(el, res.error if res is not None else None)
+                pose = drawn_pose(el, note)
                 pose.arrays = arrays
             out.append(pose)
         for gone in set(self._arrays) - live:

@@ -2,6 +2,7 @@
 hover, traces, labels, delete, fit, and painting every example."""
 from __future__ import annotations
 
+import numpy as np
 import pytest
 from PySide6.QtCore import QPoint, QPointF, QRectF, Qt
 from PySide6.QtGui import QWheelEvent
@@ -191,3 +192,14 @@ def test_the_drag_benchmark_runs_and_commits_one_command(qtbot):
     rep = bench.run(samples=720, moves=10, radius=4.0, size=(600, 400))
     assert rep["samples"] == 720 and rep["undo_commands_after_release"] == 1   # the drag: one command
     assert rep["total_ms"]["median"] > 0
+
+
+def test_a_frame_where_the_linkage_cannot_be_assembled_shows_the_drawn_pose_with_a_note(qtbot):
+    ctl, view, user = make_view(qtbot, example("double_rocker"))
+    sol = ctl.result("double_rocker").solution
+    bad = int(np.flatnonzero(~sol.valid)[0]) + 5
+    ctl.set_frame(bad)                  # e.g. a plot cursor set there
+    pose = view._items["double_rocker"].linkage.pose
+    assert pose.index is None and "cannot be assembled at input" in pose.error
+    assert pose.at == {j.id: j.at for j in ctl.scene.element("double_rocker").joints}
+    view.grab()
