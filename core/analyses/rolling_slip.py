@@ -201,10 +201,12 @@ def physical_slip(geom: LeverGeometry, P: np.ndarray, theta_nodes: np.ndarray, a
     """Run the lever on the natural cubic spline through ``P`` (N+1, 2) mm, driven by θ.
 
     ``theta_nodes``, ``alpha_nodes`` (N+1,) rad: the construction's poses, used for the side of the
-    profile the lever lies on, the first guesses and the default range (first to last pose). Per sample, the one unknown is the profile parameter s: the lever
-    circle tangent to the profile at S(s) has its centre at S + σR1·N(s), and that centre must put
-    the pin on the rocker circle, |C1 − Rot(θ)(c1 − f) − G| = ℓ (Newton, vectorised over θ).
-    The run stops where the contact leaves the profile (0.5 % extrapolation allowed).
+    profile the lever lies on, the first guesses and the default range (first to last pose).
+    Per sample the one unknown is the profile parameter s: the lever circle tangent to the profile
+    at S(s) has its centre at S + σR1·N(s), and that centre must put the pin on the rocker circle,
+    |C1 − Rot(θ)(c1 − f) − G| = ℓ (Newton, vectorised over θ). The contact angle u on the circle
+    follows; the slip is Σ | |Δs_profile| − R1|Δu| | over the samples. The run stops where the
+    contact leaves the profile (0.5 % extrapolation allowed) or no tangent pose exists.
     """
     sp = NaturalSpline(P)
     th_n = np.asarray(theta_nodes, dtype=float)
@@ -231,7 +233,7 @@ def physical_slip(geom: LeverGeometry, P: np.ndarray, theta_nodes: np.ndarray, a
         dh = 2.0 * np.einsum("ij,ij->i", W, d1 + sigma * geom.R1 * dN)
         step = h / np.where(dh != 0.0, dh, np.nan)
         s = s - np.clip(np.nan_to_num(step, nan=0.0), -0.1 * sp.length_param, 0.1 * sp.length_param)
-        ok = np.isfinite(step) & (np.abs(h) < 1e-9 * geom.ell ** 2)
+        ok = np.isfinite(step) & (np.abs(h) < 1e-12 * geom.ell ** 2)
         if np.all(np.abs(np.nan_to_num(step, nan=1.0)) < 1e-12):
             break
     margin = 0.005 * sp.length_param

@@ -17,7 +17,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
-from ..errors import Problem
+from ..errors import GeometryError, Problem
 
 SCHEMA = "rolling_lever.schema.json"
 
@@ -118,8 +118,6 @@ class RollingLever:
 
         Raises :class:`~mechsketch.core.errors.GeometryError` if either cannot be built.
         """
-        from ..errors import GeometryError
-
         msgs, p, p0 = _drawn_geometry(self)
         if msgs:
             raise GeometryError(f"rolling lever {self.id!r}: {msgs[0][1]}")
