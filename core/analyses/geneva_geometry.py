@@ -98,8 +98,7 @@ def locking_disc_outline(radius: float, relief_radius: float, a: float) -> tuple
 
 def belt_outline(r1: float, r2: float, length: float) -> Contour:
     """The hull of circle (0, 0; r1) and circle (length, 0; r2): a crank arm (CCW, crank frame)."""
-    alpha = math.asin((r1 - r2) / length)
-    t = math.pi / 2 + alpha
+    t = math.acos((r1 - r2) / length)  # normal of the outer tangents: n·(C2 − C1) = r1 − r2
     c, s = math.cos(t), math.sin(t)
     pts = np.array([[r1 * c, -r1 * s], [length + r2 * c, -r2 * s], [length + r2 * c, r2 * s], [r1 * c, r1 * s]])
     bul = np.array([0.0, math.tan(2 * t / 4.0), 0.0, math.tan((2 * math.pi - 2 * t) / 4.0)])
