@@ -14,7 +14,6 @@ from dataclasses import dataclass
 import numpy as np
 import shapely
 
-from .geneva_contour import Part
 from .geneva_geometry import GenevaGeometry, locking_disc_outline
 from .geneva_kinematics import wheel_angle
 
@@ -90,7 +89,7 @@ def check_clearances(geo: GenevaGeometry, samples: int = 720, tol: float = 5e-4,
         disc_outline, _ = locking_disc_outline(d.lock_disc_radius, relief_radius, a)
     # likewise only the part of the disc that can reach the wheel (NaN distance: nothing left)
     ring = shapely.Point(0.0, 0.0).buffer(d.outer_radius + 1.0, quad_segs=64)
-    discs = shapely.intersection(_moved_polys(Part("disc", disc_outline).outer.polyline(tol), rot, tx, ty), ring)
+    discs = shapely.intersection(_moved_polys(disc_outline.polyline(tol), rot, tx, ty), ring)
     gap_r = shapely.distance(wheel, rollers)
     gap_d = shapely.distance(wheel, discs)
     gap_d = np.where(np.isnan(gap_d), np.inf, gap_d)

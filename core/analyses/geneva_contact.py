@@ -26,8 +26,8 @@ all formulas below hold for u. Quantities (seeds/NOTES.md, section B):
 
 The integrals are taken with breaks at u = 0 (kink of |ω_pi|) and where M changes sign (kink of
 |M|): a trapezoid rule on the samples plus the break points gives the cumulative column, and an
-independent Gauss–Legendre rule on each smooth piece gives the per-engagement totals and the wear
-depths; both totals are reported. Vectorised over samples; no loop over samples.
+independent Gauss–Legendre rule on each smooth piece gives the per-engagement total (used in T_i)
+and the wear depths; both totals are reported. Vectorised over samples; no loop over samples.
 """
 from __future__ import annotations
 
@@ -58,8 +58,9 @@ def _gauss(n: int) -> tuple[np.ndarray, np.ndarray]:
     return x, w
 
 
-class _Consts:
-    """The element's constants in the units the formulas use."""
+class ContactConstants:
+    """The element's constants in the units the formulas use (lengths mm except ``fr`` = f02·r02
+    in m; moduli MPa; ``j2w2`` = J2·ω1² in N·m; ``w1`` = |ω1| rad/s) and the model choices."""
 
     def __init__(self, el: "Geneva", model: "ContactModel") -> None:
         self.z = el.slots
@@ -81,13 +82,13 @@ class _Consts:
         self.model = model
 
 
-def moment(u: np.ndarray, c: _Consts) -> np.ndarray:
+def moment(u: np.ndarray, c: ContactConstants) -> np.ndarray:
     """M(u) = J2·ε̃(u)·ω1² + M_ext (N·m), indexing sense; shape of ``u``."""
     d = 1.0 - 2.0 * c.lam * np.cos(u) + c.lam * c.lam
     return c.j2w2 * (-c.lam * (1.0 - c.lam * c.lam) * np.sin(u) / (d * d)) + c.m_ext
 
 
-def _fields(u: np.ndarray, c: _Consts) -> dict[str, np.ndarray]:
+def _fields(u: np.ndarray, c: ContactConstants) -> dict[str, np.ndarray]:
     """All contact quantities at progress angles ``u`` (rad, engaged), each of the shape of ``u``."""
     cu, su = np.cos(u), np.sin(u)
     d = 1.0 - 2.0 * c.lam * cu + c.lam * c.lam
@@ -116,7 +117,7 @@ def _fields(u: np.ndarray, c: _Consts) -> dict[str, np.ndarray]:
             "rolling_ratio": w_pi, "g": g, "contact_pressure": p_max, "mean_pressure": p_mean}
 
 
-def moment_sign_changes(c: _Consts) -> np.ndarray:
+def moment_sign_changes(c: ContactConstants) -> np.ndarray:
     """Progress angles (rad) inside (−φ0, φ0) where M changes sign, sorted; bracketed on a grid of
     :data:`ROOT_GRID` points, then bisected to machine precision (vectorised over roots)."""
     grid = np.linspace(-c.phi0, c.phi0, ROOT_GRID)
@@ -136,7 +137,7 @@ def moment_sign_changes(c: _Consts) -> np.ndarray:
     return 0.5 * (lo + hi)
 
 
-def breakpoints(c: _Consts) -> np.ndarray:
+def breakpoints(c: ContactConstants) -> np.ndarray:
     """Sorted u of the engagement ends, u = 0 and the sign changes of M (rad)."""
     return np.unique(np.concatenate([[-c.phi0, 0.0, c.phi0], moment_sign_changes(c)]))
 
@@ -175,8 +176,9 @@ class GenevaContact:
     ``wear_invariant`` T_i (N·min/m); ``contact_pressure`` p_max (MPa); ``mean_pressure`` p̄ (MPa).
     ``phi`` crank angle (rad), ``u`` progress angle (rad), ``engaged`` (bool).
 
-    Scalars: ``slip_path_total`` L_s per engagement by the trapezoid rule on the samples with breaks
-    (mm) and ``slip_path_total_gauss`` by Gauss–Legendre on each smooth piece (mm);
+    Scalars: ``slip_path_total`` L_s per engagement by Gauss–Legendre on each smooth piece (mm,
+    independent of N; it enters T_i) and ``slip_path_total_trapezoid`` by the trapezoid rule on the
+    samples with breaks (mm, the last value of the ``slip_path`` column);
     ``breaks`` the break points (u, rad); ``Rn_max`` (N) at ``phi_Rn_max`` (rad);
     ``pressure_max`` (MPa) at ``phi_pressure_max``; ``wear_invariant_max`` (N·min/m);
     ``life`` (:class:`ArchardLife`); ``model`` the choices used; ``assumptions`` stated in words.
@@ -201,7 +203,7 @@ class GenevaContact:
     contact_pressure: np.ndarray
     mean_pressure: np.ndarray
     slip_path_total: float
-    slip_path_total_gauss: float
+    slip_path_total_trapezoid: float
     breaks: np.ndarray
     Rn_max: float
     phi_Rn_max: float
@@ -215,11 +217,11 @@ class GenevaContact:
 
 def slip_path_gauss(element: "Geneva", model: "ContactModel", nodes: int = GAUSS_NODES) -> float:
     """L_s per engagement (mm) by Gauss–Legendre with ``nodes`` points on each smooth piece."""
-    c = _Consts(element, model)
+    c = ContactConstants(element, model)
     return float(_gauss_integrals(c, breakpoints(c), nodes)[0])
 
 
-def _gauss_integrals(c: _Consts, br: np.ndarray, nodes: int) -> tuple[float, float, float]:
+def _gauss_integrals(c: ContactConstants, br: np.ndarray, nodes: int) -> tuple[float, float, float]:
     """(L_s total mm, ∫p̄ dL_s over M > 0, over M < 0 in N/mm²·mm) by Gauss–Legendre per piece."""
     x, w = _gauss(nodes)
     lo, hi = br[:-1], br[1:]
@@ -237,7 +239,7 @@ def contact(element: "Geneva", samples: int, model: "ContactModel") -> GenevaCon
 
     See the module docstring for the formulas and :class:`GenevaContact` for the result.
     """
-    c = _Consts(element, model)
+    c = ContactConstants(element, model)
     n = int(samples)
     s = 1.0 if element.omega1 > 0 else -1.0
     u_all = -math.pi + 2.0 * math.pi * np.arange(n, dtype=float) / n
@@ -254,8 +256,8 @@ def contact(element: "Geneva", samples: int, model: "ContactModel") -> GenevaCon
     pos = np.empty_like(order)
     pos[order] = np.arange(order.size)
     at = pos[: ue.size]  # where each engaged sample sits in the merged grid
-    total = float(cum[-1])
-    total_g, pw_drive, pw_brake = _gauss_integrals(c, br, GAUSS_NODES)
+    total_t = float(cum[-1])
+    total, pw_drive, pw_brake = _gauss_integrals(c, br, GAUSS_NODES)
 
     def full(arr: np.ndarray) -> np.ndarray:
         out = np.full(n, np.nan)
@@ -281,7 +283,7 @@ def contact(element: "Geneva", samples: int, model: "ContactModel") -> GenevaCon
         phi_rn = phi_p = math.nan
     return GenevaContact(
         phi=phi, u=u_all, engaged=eng, slip_speed=gs * c.w1, slip_speed_invariant=gs / c.rp,
-        slip_path=full(cum), wear_invariant=ti, slip_path_total=total, slip_path_total_gauss=total_g,
+        slip_path=full(cum), wear_invariant=ti, slip_path_total=total, slip_path_total_trapezoid=total_t,
         breaks=br, Rn_max=rn_max, phi_Rn_max=phi_rn, pressure_max=p_max, phi_pressure_max=phi_p,
         wear_invariant_max=float(np.nanmax(ti)) if np.isfinite(ti).any() else math.nan,
         life=life, model=model, assumptions=assumptions(element, model), **cols)

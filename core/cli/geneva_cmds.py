@@ -82,10 +82,11 @@ def summary(el: Geneva, kin: GenevaKinematics, con: GenevaContact) -> str:
         f"  strip width a_paper up to {_mx(con.strip_width) * 1e3:.4g} µm, Hertz half-width b up to "
         f"{_mx(con.hertz_half_width) * 1e3:.4g} µm, roller deformation Δ up to {_mx(con.deformation) * 1e3:.4g} µm, "
         f"|ω_pi| up to {_mx(np.abs(con.rolling_ratio)):.4g} (r/r_p at entry)",
-        f"  slip path per engagement L_s = {con.slip_path_total * 1e3:.6g} µm (trapezoid on the samples with breaks "
-        f"at {', '.join(_deg(b) for b in con.breaks)} in progress angle); Gauss–Legendre "
-        f"{con.slip_path_total_gauss * 1e3:.6g} µm (relative difference "
-        f"{_rel(con.slip_path_total, con.slip_path_total_gauss):.2g}); slip speed up to {_mx(con.slip_speed):.4g} mm/s",
+        f"  slip path per engagement L_s = {con.slip_path_total * 1e3:.6g} µm (Gauss–Legendre on each smooth piece, "
+        f"breaks at progress angles {', '.join(_deg(b) for b in con.breaks)}); the slip_path column (trapezoid on "
+        f"the samples with the same breaks) ends at {con.slip_path_total_trapezoid * 1e3:.6g} µm (relative "
+        f"difference {_rel(con.slip_path_total_trapezoid, con.slip_path_total):.2g}); slip speed up to "
+        f"{_mx(con.slip_speed):.4g} mm/s",
         f"  paper's wear invariant T_i = π·R_n·z/(30·ω1·L_s) up to {con.wear_invariant_max:.4g} N·min/m",
         f"  peak contact pressure p_max = 2R_n/(π·b·l) = {con.pressure_max:.4g} MPa at φ = {_deg(con.phi_pressure_max)}",
         f"  Archard (k = {el.wear.specific_wear_rate:g} mm³/(N·m), [h] = {el.wear.allowed_wear:g} mm): wear per "

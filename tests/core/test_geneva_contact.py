@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from scipy import integrate
 
-from mechsketch.core.analyses.geneva_contact import breakpoints, _Consts, slip_path_gauss
+from mechsketch.core.analyses.geneva_contact import breakpoints, ContactConstants, slip_path_gauss
 from mechsketch.core.model.geneva import ContactModel, Drawing, Geneva, Load, Material
 
 RPM10 = 300.0 / math.pi  # ω1 = 10 rad/s
@@ -35,6 +35,7 @@ def test_notes_default_scene_table():
     assert round(np.nanmax(c.deformation) * 1e3, 2) == 1.34  # µm
     assert c.rolling_ratio[e][0] == pytest.approx(-6.25, rel=1e-12)  # |ω_pi| = r/r_p at entry
     assert round(c.slip_path_total * 1e3, 3) == 0.762  # µm
+    assert round(c.slip_path_total_trapezoid * 1e3, 3) == 0.762
     assert round(c.wear_invariant_max / 1e6, 1) == 9.6  # N·min/m
     assert round(c.pressure_max) == 231  # MPa
     acc, brk = (u < -0.01), (u > 0.01)
@@ -95,7 +96,7 @@ def reference_integrand(el: Geneva, model: ContactModel):
 def test_slip_path_and_wear_against_scipy_with_breaks(z, model, mext, rpm):
     el = default(z=z, speed_rpm=rpm, load=Load(external_moment=mext, journal_radius=3.0 if z == 3 else 15.0))
     fields = reference_integrand(el, model)
-    br = breakpoints(_Consts(el, model))
+    br = breakpoints(ContactConstants(el, model))
     if mext:  # the moment changes sign away from φ = 0, and the module found where
         inner = br[(np.abs(br) > 1e-9) & (np.abs(br) < el.phi0 - 1e-9)]
         assert inner.size >= 1
@@ -104,11 +105,11 @@ def test_slip_path_and_wear_against_scipy_with_breaks(z, model, mext, rpm):
     ls = sum(integrate.quad(lambda u: fields(u)[0], lo, hi, epsabs=0, epsrel=1e-9, limit=200)[0]
              for lo, hi in zip(br[:-1], br[1:]))
     c = el.contact(3600, model)
-    assert c.slip_path_total_gauss == pytest.approx(ls, rel=1e-7)
-    assert c.slip_path_total == pytest.approx(ls, rel=2e-6)
+    assert c.slip_path_total == pytest.approx(ls, rel=1e-7)
+    assert c.slip_path_total_trapezoid == pytest.approx(ls, rel=2e-6)
     # the reference differentiates positions numerically (≈1e-8); the two Gauss rules agree far better
     assert slip_path_gauss(el, model, 96) == pytest.approx(ls, rel=1e-7)
-    assert slip_path_gauss(el, model, 96) == pytest.approx(c.slip_path_total_gauss, rel=1e-10)
+    assert slip_path_gauss(el, model, 96) == pytest.approx(c.slip_path_total, rel=1e-10)
     # Archard: k ∫ p̄ dL_s on each flank, slip path in metres
     drive = brake = 0.0
     for lo, hi in zip(br[:-1], br[1:]):
@@ -144,7 +145,8 @@ def test_sampled_columns_against_the_independent_fields_and_eq5_against_drho():
         assert c.rolling_ratio[k] == pytest.approx(drho / el.roller_radius, rel=1e-7, abs=1e-9)
     assert np.all(np.isnan(c.Rn[~c.engaged])) and np.all(np.isnan(c.slip_path[~c.engaged]))
     assert np.all(np.diff(c.slip_path[e]) >= 0) and c.slip_path[e][0] == 0.0
-    assert c.slip_path[e][-1] == pytest.approx(c.slip_path_total)
+    assert c.slip_path[e][-1] == pytest.approx(c.slip_path_total_trapezoid, rel=1e-12)  # φ0 is a sample
+    assert c.slip_path_total_trapezoid == pytest.approx(c.slip_path_total, rel=1e-4)
 
 
 def test_robust_rolling_ratio_where_the_printed_form_cancels():
@@ -177,7 +179,7 @@ def test_two_materials_hertz_half_width():
 def test_trapezoid_converges_at_second_order_with_breaks():
     el = default(z=4, load=Load(external_moment=3.0))
     ref = slip_path_gauss(el, ContactModel(), 200)
-    errs = [abs(el.contact(n, ContactModel()).slip_path_total - ref) for n in (400, 800, 1600, 3200)]
+    errs = [abs(el.contact(n, ContactModel()).slip_path_total_trapezoid - ref) for n in (400, 800, 1600, 3200)]
     rates = [errs[i] / errs[i + 1] for i in range(3)]
     assert all(3.3 < q < 4.7 for q in rates), (errs, rates)
 
@@ -196,7 +198,7 @@ def test_no_load_gives_zero_force_and_no_nan_warnings():
     with np.errstate(all="raise"):
         c = el.contact(360, ContactModel())
     e = c.engaged
-    assert np.all(c.Rn[e] == 0) and np.all(c.deformation[e] == 0) and c.slip_path_total == 0.0
+    assert np.all(c.Rn[e] == 0) and np.all(c.deformation[e] == 0) and c.slip_path_total == 0.0 == c.slip_path_total_trapezoid
     assert np.all(np.isnan(c.wear_invariant)) and math.isinf(c.life.cycles) and c.Rn_max == 0.0
 
 
