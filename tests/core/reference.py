@@ -267,6 +267,51 @@ def sixbar_guide(mode=1, eid="sixbar") -> Linkage:
     return lk.with_joints_moved({"E": xy(E), "Q": xy(E)})
 
 
+def _extend(lk, eid, joints, links):
+    js = [(j.id, j.kind.value, j.at) + ((j.axis_deg,) if j.kind is P else ()) for j in lk.joints] + joints
+    ls = {k.id: list(k.joints) for k in lk.links}
+    for k, v in links.items():
+        ls.setdefault(k, [])
+        ls[k] += v
+    return build(eid, js, ls, lk.ground, lk.driver.link, lk.driver.pivot, lk.driver.speed_rpm, lk.samples)
+
+
+def rpr_on_moving_links(eid="rpr_moving") -> Linkage:
+    """Four-bar + RPR group whose both outer joints are on moving links: a block pinned at the
+    coupler point E slides along a rod pinned at a rocker point H."""
+    fb = fourbar(coupler_point=(0.5, 0.6), eid=eid)
+    at = {j.id: complex(*j.at) for j in fb.joints}
+    H = at["D"] + 0.5 * (at["C"] - at["D"]) + 30j
+    u = (at["E"] - H) / abs(at["E"] - H) * e(10)
+    Q = at["E"] + 5 * u
+    return _extend(fb, eid, [("H", "R", xy(H)), ("Q", "P", xy(Q), math.degrees(cmath.phase(u)))],
+                   {"rocker": ["H"], "block": ["E", "Q"], "rod": ["H", "Q"]})
+
+
+def rrp_guide_on_coupler(eid="rrp_coupler") -> Linkage:
+    """Four-bar + RRP group whose guide is on the coupler (turning with angular acceleration);
+    the block's pin P sits 6 mm off the slide axis."""
+    fb = fourbar(coupler_point=(0.5, 0.6), eid=eid)
+    G = complex(*fb.joint("E").at)
+    xi, O2 = 25.0, -40 + 90j
+    S = line_circle(G, e(xi), O2, 120.0, 1)
+    Pp = S + 6j * e(xi)
+    return _extend(fb, eid, [("O2", "R", xy(O2)), ("P", "R", xy(Pp)), ("S", "P", xy(S), xi)],
+                   {"ground": ["O2"], "coupler": ["S"], "rod": ["O2", "P"], "block": ["P", "S"]})
+
+
+def eight_bar(eid="eight_bar") -> Linkage:
+    """Stephenson six-bar (second RRR on two moving links) + an RRP group sliding on a guide of
+    the second dyad's output link: three groups in sequence."""
+    st_ = sixbar_stephenson(on_rocker=True, f=(150.0, 60.0), eid=eid)
+    G = complex(*st_.joint("G").at)
+    xi = 70.0
+    O3 = G + (60 + 80j)
+    S = line_circle(G, e(xi), O3, 140.0, -1)
+    return _extend(st_, eid, [("O3", "R", xy(O3)), ("S", "R", xy(S)), ("T", "P", xy(S), xi)],
+                   {"ground": ["O3"], "out": ["T"], "rod3": ["O3", "S"], "blk": ["S", "T"]})
+
+
 def mirrored(linkage: Linkage, joint: str, a: str, b: str, eid: str | None = None) -> Linkage:
     """The same linkage with ``joint`` reflected across the line through joints a and b (the
     other assembly mode of an RRR group)."""

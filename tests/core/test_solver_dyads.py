@@ -60,6 +60,9 @@ def _cases():
     c["RRR+RRR Stephenson, modes -,-"] = (lambda: R.sixbar_stephenson(mode1=-1, mode2=-1, f=(60.0, -150.0),
                                                                       e_pt=(50.0, -30.0)), ["RRR", "RRR"], [-1, -1])
     c["RRR then RRP on its inner joint"] = (lambda: R.sixbar_compound(), ["RRR", "RRP"], [1, 1])
+    c["RPR with both outer joints moving"] = (lambda: R.rpr_on_moving_links(), ["RRR", "RPR"], [1, 1])
+    c["RRP guide on the coupler, pin off the axis"] = (lambda: R.rrp_guide_on_coupler(), ["RRR", "RRP"], [1, 1])
+    c["eight-bar RRR, RRR, RRP"] = (lambda: R.eight_bar(), ["RRR", "RRR", "RRP"], [1, 1, -1])
     return c
 
 
@@ -109,7 +112,7 @@ def test_starts_at_drawn_pose(case):
 def test_loop_closure_every_sample(case):
     lk, plan, sol = solved(case)
     size = R.size_of(lk)
-    assert sol.valid.sum() > 300
+    assert sol.valid.sum() > 0.7 * len(sol)
     assert R.closure_error(lk, sol) <= 1e-12 * size
     assert sol.residual() <= 1e-12 * size
 
