@@ -926,7 +926,6 @@ def mode_signs(linkage: Linkage, sol, group) -> np.ndarray:
     RRR cross(H − M, L − M); RRP dot(u, L − M), u the guide direction; RPR dot(u, M − H).
     PRP and RPP have a single assembly: ones."""
     k = group.kind
-    at = lambda j: complex(*linkage.joint(j).at)  # noqa: E731
     if k == "RRR":
         M, Lp = _z(sol.point(group.link_i, linkage.joint(group.outer_i).at)), _z(sol.position(group.inner))
         H = _z(sol.point(group.link_j, linkage.joint(group.outer_j).at))

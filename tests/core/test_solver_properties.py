@@ -8,7 +8,6 @@ Examples are derandomised (stable CI); run with ``--hypothesis-seed`` / a larger
 """
 from __future__ import annotations
 
-import math
 import os
 
 import numpy as np
