@@ -62,7 +62,9 @@ def convergence() -> list[tuple[str, list[int], list[float]]]:
         for n in ns:
             ls = el.contact(n, model).slip_path_total_trapezoid
             errs.append(abs(ls - ref) / ref)
-            order = "" if len(errs) < 2 or errs[-1] == 0 else f"{math.log(errs[-2] / errs[-1]) / math.log(n / ns[len(errs) - 2]):.2f}"
+            order = ""
+            if len(errs) > 1 and errs[-1] > 0:
+                order = f"{math.log(errs[-2] / errs[-1]) / math.log(n / ns[len(errs) - 2]):.2f}"
             print(f"{n:>7} {ls * 1e3:>16.12f} {errs[-1]:>11.2e} {order:>6}")
         out.append((title, ns, errs))
     return out

@@ -51,7 +51,8 @@ def summary(el: Geneva, kin: GenevaKinematics, con: GenevaContact) -> str:
         f"  indexing over 2φ0 = {_deg(2 * kin.phi0)} of crank (entry φ = {_deg(-math.copysign(kin.phi0, w1))}), "
         f"motion fraction {kin.motion_fraction:.4f}, dwell fraction {kin.dwell_fraction:.4f}, period {kin.period:.6g} s",
         f"  i_max = ω2/ω1 = λ/(1 − λ) = {kin.i_max:.6g} at φ = 0; peak |α2| = ε̃_max·ω1² = {kin.accel_peak:.6g} rad/s² "
-        f"(ε̃_max = {kin.accel_peak_ratio:.6g}) at φ = ∓{_deg(kin.phi_peak)}; sampled peak "
+        f"(ε̃_max = {kin.accel_peak_ratio:.6g}) at φ = {_deg(-math.copysign(kin.phi_peak, w1))} (speeding up) and "
+        f"{_deg(math.copysign(kin.phi_peak, w1))} (slowing down); sampled peak "
         f"{abs(kin.sampled_peak[1]):.6g} rad/s² at {_deg(kin.sampled_peak[0])}",
         f"  acceleration jump at entry and exit: tan(π/z)·ω1² = {kin.jump:.6g} rad/s² (a step between dwell and "
         "indexing rows, never interpolated; infinite jerk there, the jerk column is the finite part); "
@@ -86,7 +87,7 @@ def summary(el: Geneva, kin: GenevaKinematics, con: GenevaContact) -> str:
         f"breaks at progress angles {', '.join(_deg(b) for b in con.breaks)}); the slip_path column (trapezoid on "
         f"the samples with the same breaks) ends at {con.slip_path_total_trapezoid * 1e3:.6g} µm (relative "
         f"difference {_rel(con.slip_path_total_trapezoid, con.slip_path_total):.2g}); slip speed up to "
-        f"{_mx(con.slip_speed):.4g} mm/s",
+        f"{_mx(con.slip_speed):.4g} mm/s (invariant v_s/(ω1·r_p) up to {_mx(con.slip_speed_invariant):.4g})",
         f"  paper's wear invariant T_i = π·R_n·z/(30·ω1·L_s) up to {con.wear_invariant_max:.4g} N·min/m",
         f"  peak contact pressure p_max = 2R_n/(π·b·l) = {con.pressure_max:.4g} MPa at φ = {_deg(con.phi_pressure_max)}",
         f"  Archard (k = {el.wear.specific_wear_rate:g} mm³/(N·m), [h] = {el.wear.allowed_wear:g} mm): wear per "

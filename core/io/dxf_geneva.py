@@ -18,6 +18,8 @@ from ..analyses.geneva_contour import Contour
 from .dxf import new_document, save_document
 
 if TYPE_CHECKING:
+    from ezdxf.document import Drawing
+
     from ..analyses.geneva_geometry import GenevaGeometry
     from ..model.geneva import Geneva
 
@@ -36,7 +38,7 @@ def _cross(msp, centre: tuple[float, float], half: float) -> None:
     msp.add_line((x, y - half), (x, y + half), dxfattribs={"layer": "centre_marks"})
 
 
-def build_document(geo: "GenevaGeometry", phi: float = 0.0):
+def build_document(geo: "GenevaGeometry", phi: float = 0.0) -> "Drawing":
     """An ezdxf document (R2010, $INSUNITS = 4 mm) of the drive at crank angle ``phi`` (rad)."""
     doc = new_document(LAYERS)
     msp = doc.modelspace()

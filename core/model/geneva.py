@@ -347,8 +347,9 @@ def parse(data: dict[str, Any], path: str) -> tuple[Geneva | None, list[Problem]
     """Check a schema-valid geneva dict for meaning; return the element (or None) and problems.
 
     Checks: z ≥ 3; positive sizes, moduli, speed and wear data; clearances ≥ 0; Poisson's ratio in
-    (−1, 0.5); then the wheel geometry: a locking arc between A − R_o and r − w, a locking disc of
-    positive radius, a land between slots (horn land angle > 0), a hub around the bore (slot bottoms outside the bore), a non-self-locking journal
+    (−1, 0.5); then, when the sizes it needs are sound, the wheel geometry: a locking arc between
+    A − R_o and r − w, a locking disc of positive radius, a land between slots (horn land angle
+    > 0), a hub around the bore (slot bottoms outside it), a non-self-locking journal
     (f02·r02 < A − r), a roller pin inside the roller, a crank bore inside the locking disc.
     """
     eid = data["id"]
@@ -369,8 +370,8 @@ def parse(data: dict[str, Any], path: str) -> tuple[Geneva | None, list[Problem]
         ck.bad("speed_rpm", "must not be zero (the sign gives the direction: positive turns the crank CCW)")
     ld = _sub(data, "load", DEFAULT_LOAD)
     ck.non_negative("load.wheel_inertia", ld["wheel_inertia"], "kg·m²")
-    ck.non_negative("load.journal_friction", ld["journal_friction"], "")
-    ck.non_negative("load.journal_radius", ld["journal_radius"], "mm")
+    sizes_ok &= ck.non_negative("load.journal_friction", ld["journal_friction"], "")
+    sizes_ok &= ck.non_negative("load.journal_radius", ld["journal_radius"], "mm")
     mats = {}
     for part in ("roller", "wheel"):
         md = dict(STEEL)
@@ -396,11 +397,11 @@ def parse(data: dict[str, Any], path: str) -> tuple[Geneva | None, list[Problem]
         dr = Drawing(**{k: float(v) for k, v in data["drawing"].items()})
         for k, v in dr.to_dict().items():
             if k == "locking_arc_radius":
-                ck.positive(f"drawing.{k}", v, "mm")
+                sizes_ok &= ck.positive(f"drawing.{k}", v, "mm")
             else:
-                ck.non_negative(f"drawing.{k}", v, "mm")
+                sizes_ok &= ck.non_negative(f"drawing.{k}", v, "mm")
     clearance = Clearances(cl["slot"], cl["bottom"], cl["lock"])
-    if z >= 3 and sizes_ok and not ck.problems:
+    if z >= 3 and sizes_ok:
         _check_geometry(ck, z, a, rp, clearance, ld, dr)
     if ck.problems:
         return None, ck.problems

@@ -203,6 +203,12 @@ def test_schema_problems_unknown_key_wrong_type_bad_enum():
     assert problems[0].path == "$.elements[0].contact_model.normal_force"
 
 
+def test_geometry_is_checked_even_when_unrelated_values_are_bad():
+    el = with_("slots", 3, with_("wear.allowed_wear", -1.0))
+    paths = {p.path for p in problems_of(el)}
+    assert paths == {"$.elements[0].wear.allowed_wear", "$.elements[0].load.journal_radius"}  # + no hub
+
+
 def test_all_problems_of_one_element_are_listed_together():
     el = with_("center_distance", -1.0, with_("speed_rpm", 0, with_("wear.allowed_wear", -1.0)))
     paths = {p.path for p in problems_of(el)}
