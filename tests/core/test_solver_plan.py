@@ -244,3 +244,24 @@ def test_compile_plan_is_the_same_as_linkage_compile():
     x = np.linspace(0, 6, 7)
     assert np.array_equal(a.evaluate(x).position("C"), b.evaluate(x).position("C"))
     assert a.mobility == 1
+
+
+@pytest.mark.parametrize("case", ["outer joints coincide", "overflowing coordinates"])
+def test_valid_samples_are_finite(case):
+    """A sample marked valid has finite positions: where a kernel's arithmetic breaks down (the
+    RRR's outer joints exactly coincident: direction 0/0; lengths of 1e154 mm: squares overflow),
+    the sample is reported as not assembled rather than as a valid NaN pose."""
+    if case == "outer joints coincide":   # rhombus: at input 0 the crank pin B sits exactly on D
+        lk = R.fourbar(crank=60.0, coupler=60.0, rocker=60.0, ground=60.0, theta0=36.67)
+        sol = lk.compile().evaluate(np.array([0.0, 0.5]), order=2)
+        assert list(sol.valid) == [False, True]
+    else:
+        from dataclasses import replace
+        lk = R.fourbar()
+        lk = replace(lk, joints=tuple(j.moved((j.at[0] * 1e154, j.at[1] * 1e154)) for j in lk.joints))
+        sol = lk.solve(samples=12)
+    for j in lk.joint_ids:
+        assert np.isfinite(sol.position(j)[sol.valid]).all(), j
+    for g in sol.groups:
+        assert not (sol.feasible(g.name) & ~sol.valid).any()
+    assert np.isnan(sol.position("C")[~sol.valid]).all()
