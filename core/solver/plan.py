@@ -94,6 +94,11 @@ class Plan:
             for k in idx:
                 step = self.steps[k]
                 out = step.run(states, order)
+                # assembled only where the solved poses are finite: the kernels' arithmetic can
+                # break down although their assembly test passed (outer joints exactly
+                # coincident: a 0/0 direction; lengths whose squares overflow)
+                for st in (out.state_i, out.state_j):
+                    out.ok = out.ok & np.isfinite(st.A) & np.isfinite(st.rot)
                 states[step.group.link_i] = out.state_i
                 states[step.group.link_j] = out.state_j
                 outs[step.group.name] = out
