@@ -251,8 +251,11 @@ def test_valid_samples_are_finite(case):
     """A sample marked valid has finite positions: where a kernel's arithmetic breaks down (the
     RRR's outer joints exactly coincident: direction 0/0; lengths of 1e154 mm: squares overflow),
     the sample is reported as not assembled rather than as a valid NaN pose."""
-    if case == "outer joints coincide":   # rhombus: at input 0 the crank pin B sits exactly on D
-        lk = R.fourbar(crank=60.0, coupler=60.0, rocker=60.0, ground=60.0, theta0=36.67)
+    if case == "outer joints coincide":   # crank = ground: drawn with the crank pin B exactly on D
+        lk = R.build("rhombus", [("A", "R", (0.0, 0.0)), ("B", "R", (60.0, 0.0)), ("C", "R", (90.0, 51.9615242)),
+                                 ("D", "R", (60.0, 0.0))],
+                     {"ground": ["A", "D"], "crank": ["A", "B"], "coupler": ["B", "C"], "rocker": ["D", "C"]},
+                     "ground", "crank", "A")
         sol = lk.compile().evaluate(np.array([0.0, 0.5]), order=2)
         assert list(sol.valid) == [False, True]
     else:
