@@ -292,3 +292,16 @@ def test_inverted_slider_crank_pin_through_the_pivot_without_a_jump():
     lk = R.inverted_slider_crank(crank=50.0, ground=50.0, offset=0.0, theta0=40.0)
     x = lk.compile().theta0 + np.linspace(0.0, 2 * math.pi, 7200, endpoint=False) + 1e-7
     assert _max_jump_ratio(lk, x) <= 1.0
+
+
+@pytest.mark.parametrize("theta0", [10.0, 30.0, 45.0])
+def test_rhombus_drawn_on_grid_angles_never_gives_an_open_loop(theta0):
+    """All four lengths equal, crank drawn at a whole degree: the 1° sweep samples the input
+    where the crank pin lies on the rocker pivot to ~1e-14 mm. The RRR there is undetermined (any
+    point of a circle closes the loop): not assembled, never a 'valid' pose with a 100 mm gap."""
+    lk = R.fourbar(crank=60.0, coupler=60.0, rocker=60.0, ground=60.0, theta0=theta0)
+    sol = lk.solve(samples=360)
+    assert R.closure_error(lk, sol) <= 1e-9 * R.size_of(lk)
+    assert sol.valid.sum() >= 359
+    k = int(np.argmin(np.abs(np.angle(np.exp(1j * sol.input)))))   # input 0: B on D
+    assert not sol.valid[k]

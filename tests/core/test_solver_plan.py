@@ -268,3 +268,26 @@ def test_valid_samples_are_finite(case):
     for g in sol.groups:
         assert not (sol.feasible(g.name) & ~sol.valid).any()
     assert np.isnan(sol.position("C")[~sol.valid]).all()
+
+
+def test_residual_sees_a_stretched_link(monkeypatch):
+    """The reported loop-closure residual must notice a kernel that keeps the joints shared but
+    gets a link's length wrong: the inner point L moved consistently for both links (as a broken
+    kernel computing a wrong L would), so only the links' rigidity shows it."""
+    from mechsketch.core.solver import kernels
+
+    lk = R.fourbar()
+    m0, h0, l0 = (complex(*lk.joint(j).at) for j in "BDC")
+    real = kernels.rrr
+
+    def stretched(*a, **k):
+        out = real(*a, **k)
+        M, H = out.state_i.A, out.state_j.A
+        L = M + (1 + 1e-6) * out.state_i.rot * (l0 - m0)      # coupler 1 ppm too long
+        out.state_i.rot = (L - M) / (l0 - m0)
+        out.state_j.rot = (L - H) / (l0 - h0)
+        return out
+    monkeypatch.setattr(kernels, "rrr", stretched)
+    sol = lk.solve(samples=36)
+    assert R.closure_error(lk, sol) > 1e-4            # 140 mm · 1e-6
+    assert sol.residual() > 1e-4
