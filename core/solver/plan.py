@@ -335,14 +335,21 @@ class Solution:
         return np.abs(np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], (a * b).sum(axis=1)))
 
     def residual(self) -> float:
-        """Max loop-closure residual, mm: each joint computed from every link carrying it agrees.
+        """Max loop-closure residual, mm: each joint computed from every link carrying it agrees,
+        and every link stays rigid.
 
         For an R joint, the distance between its positions carried by each solved link; for a P
-        joint, the distance of one link's axis point from the other link's axis line.
+        joint, the distance of one link's axis point from the other link's axis line; for a link,
+        how far its joints move from their drawn distances to its anchor (|rotation| ≠ 1). The
+        last catches a group that puts a shared joint in the same wrong place for both links.
         """
         link = self.plan.linkage
         worst = 0.0
         with np.errstate(invalid="ignore"):
+            for k, st in self._states.items():
+                reach = max((abs(_c(link.joint(j).at) - st.a0) for j in link.link(k).joints), default=0.0)
+                r = np.abs(np.abs(np.broadcast_to(st.rot, (len(self),))) - 1.0) * reach
+                worst = max(worst, float(np.nanmax(r[self.valid], initial=0.0)))
             for j in link.joints:
                 carriers = [c for c in link.links_of(j.id) if c in self._states]
                 if len(carriers) < 2:
