@@ -146,7 +146,10 @@ def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: co
     root, ok = _sqrt_ok(prod)
     x = ((li - lj) * (li + lj) + D * D) / (2.0 * D)
     h = mode * root / (2.0 * D)
-    L = M + (x + 1j * h) * (d / D)
+    # L in polar form: |L − M| = li exactly. (x, h) lose accuracy like eps·li²/D where M and H
+    # nearly coincide (li ≈ lj), and the Cartesian form then left the loop open by up to li.
+    q = x + 1j * h
+    L = M + q * (li / np.abs(q)) * (d / D)
     ri, rj = L - M, L - H
     si = LinkState(m0, M, ri / (l0 - m0))
     sj = LinkState(h0, H, rj / (l0 - h0))
