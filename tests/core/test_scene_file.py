@@ -94,6 +94,8 @@ BAD = [
     ("driver not binary", lambda d: link(d, "crank")["joints"].append("C"), f"{EL}.driver.link", "crank", "binary"),
     ("driver pivot off the ground", lambda d: el(d)["driver"].__setitem__("pivot", "B"), f"{EL}.driver.pivot", "B",
      "not on the ground link"),
+    ("driver pivot not on the driver", lambda d: el(d)["driver"].__setitem__("pivot", "C"), f"{EL}.driver.pivot",
+     "C", "not a joint of driver"),
     ("driver pivot prismatic", lambda d: (link(d, "crank").__setitem__("joints", ["S", "B"]),
                                           el(d)["driver"].__setitem__("pivot", "S")),
      f"{EL}.driver.pivot", "S", "revolute"),
