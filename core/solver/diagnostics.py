@@ -19,8 +19,9 @@ GOLDEN_STEPS = 60
 
 @dataclass(frozen=True)
 class DeadPoint:
-    """A toggle: the driver angle (rad, in the sweep's unwrapped input), the group, and whether
-    the group stops being assemblable there (``"limit"``) or passes close to it (``"toggle"``)."""
+    """A toggle: the driver angle (rad), the group, and whether the group stops being assemblable
+    there (``"limit"``), passes close to it (``"toggle"``), or passes through it where its two
+    assembly modes meet (``"change point"``: the solution keeps to the smooth branch)."""
 
     input: float
     group: str
@@ -28,7 +29,9 @@ class DeadPoint:
     conditioning: float
 
     def __str__(self) -> str:
-        what = "assembly limit" if self.kind == "limit" else f"near toggle (conditioning {self.conditioning:.1e})"
+        what = {"limit": "assembly limit",
+                "change point": "change point (the assembly modes meet; the motion keeps to the smooth branch)",
+                }.get(self.kind, f"near toggle (conditioning {self.conditioning:.1e})")
         return f"{math.degrees(self.input):.6f}° {self.group}: {what}"
 
 
@@ -147,9 +150,12 @@ def diagnose(sol: Solution) -> Diagnostics:
             continue
         prev, nxt = np.roll(c, 1), np.roll(c, -1)
         cand = np.flatnonzero((c < TOGGLE_COND) & (c <= prev) & (c <= nxt) & np.isfinite(prev) & np.isfinite(nxt))
+        branches = plan.branch_points().get(g.name, np.empty(0))
         for k in cand:
             x, cmin = _golden_min(plan, g.name, sol.input[k] - step, sol.input[k] + step)
-            dead.append(DeadPoint(float(x), g.name, "toggle", cmin))
+            off = (plan.direction * (x - plan.theta0)) % (2 * math.pi)
+            near = branches.size and np.min(np.abs(np.remainder(branches - off + math.pi, 2 * math.pi) - math.pi)) < 1e-5
+            dead.append(DeadPoint(float(x), g.name, "change point" if near else "toggle", cmin))
     th0 = float(sol.input[0])
     ends = [x for r in reachable for x in r]
 

@@ -94,9 +94,11 @@ class DyadOut:
 PARALLEL_COND = 1e-6
 
 
-def _sqrt_ok(x: Arr) -> tuple[Arr, Arr]:
-    ok = x >= 0.0
-    return np.sqrt(np.where(ok, x, np.nan)), ok
+def _sqrt_ok(x: Arr, gap: Arr, tol: float) -> tuple[Arr, Arr]:
+    """sqrt(x) where the assembly margin ``gap`` ≥ −tol (x clamped at 0: an exact toggle that
+    rounding pushed below zero still assembles); NaN and ok False elsewhere."""
+    ok = gap >= -tol
+    return np.sqrt(np.where(ok, np.maximum(x, 0.0), np.nan)), ok
 
 
 def crank(pivot: complex, a0_angle: float, inputs: Arr, omega: float | Arr, alpha: float | Arr,
@@ -128,14 +130,16 @@ def _slider(g: LinkState, s0: complex, u0: complex, s: Arr, sd: Arr | None, sdd:
 
 
 def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: complex,
-        order: int) -> DyadOut:
+        order: int, flip: Arr | None = None, tol: float = 0.0) -> DyadOut:
     """RRR dyad: link i = M–L, link j = H–L; M, H outer joints on known links, L the inner joint.
 
     Lengths and the assembly mode (sign of cross(H−M, L−M), +1: L left of M→H) come from the
-    drawn positions m0, h0, l0.
+    drawn positions m0, h0, l0. ``flip`` (±1 per sample) switches the mode past branch points
+    so that the smooth branch is followed (see :mod:`mechsketch.core.solver.branches`).
     """
     li, lj = abs(l0 - m0), abs(l0 - h0)
-    mode = 1.0 if cross(np.asarray(h0 - m0), np.asarray(l0 - m0)) >= 0.0 else -1.0
+    mode0 = 1.0 if cross(np.asarray(h0 - m0), np.asarray(l0 - m0)) >= 0.0 else -1.0
+    mode = mode0 if flip is None else mode0 * flip
     M, H = m_state.point(m0), h_state.point(h0)
     d = H - M
     D = np.abs(d)
@@ -143,7 +147,7 @@ def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: co
     f1, f2, f3 = li + lj - D, D - li + lj, D + li - lj
     prod = (D + li + lj) * f1 * f2 * f3
     gap = np.minimum(np.minimum(f1, f2), f3)
-    root, ok = _sqrt_ok(prod)
+    root, ok = _sqrt_ok(prod, gap, tol)
     x = ((li - lj) * (li + lj) + D * D) / (2.0 * D)
     h = mode * root / (2.0 * D)
     # L in polar form: |L − M| = li exactly. (x, h) lose accuracy like eps·li²/D where M and H
@@ -165,18 +169,19 @@ def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: co
         aM, aH = m_state.acceleration(m0, M), h_state.acceleration(h0, H)
         ai, aj, _ = solve2(c1, c2, aH - aM + wi * wi * ri - wj * wj * rj)  # eq. 3
         si.aA, si.alpha, sj.aA, sj.alpha = aM, ai, aH, aj
-    return DyadOut(si, sj, ok, cond, gap, {"mode": mode, "L": L, "li": li, "lj": lj})
+    return DyadOut(si, sj, ok, cond, gap, {"mode": mode0, "L": L, "li": li, "lj": lj})
 
 
 def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex, l0: complex,
-        order: int) -> DyadOut:
+        order: int, flip: Arr | None = None, tol: float = 0.0) -> DyadOut:
     """RRP dyad: link i = M–L (rod), link j = slider carrying L, sliding on a guide of known link g.
 
     The guide is the axis through drawn ``s0`` with unit direction ``u0`` (moves with g). Mode:
     sign of the rod's projection on the guide in the drawn pose (the paper's choice of x_q).
     """
     li = abs(l0 - m0)
-    mode = 1.0 if dot(np.asarray(u0), np.asarray(l0 - m0)) >= 0.0 else -1.0
+    mode0 = 1.0 if dot(np.asarray(u0), np.asarray(l0 - m0)) >= 0.0 else -1.0
+    mode = mode0 if flip is None else mode0 * flip
     M = m_state.point(m0)
     z = g.point(s0)
     u = g.rot * u0
@@ -184,8 +189,8 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
     dvec = z + b - M
     du = dot(u, dvec)
     dn = cross(u, dvec)  # signed eccentricity e_s + l_j sin φ_jq − M·n  (A1–A3 corrected)
-    root, ok = _sqrt_ok((li - dn) * (li + dn))
     gap = li - np.abs(dn)
+    root, ok = _sqrt_ok((li - dn) * (li + dn), gap, tol)
     s = -du + mode * root
     ri = dvec + s * u
     si = LinkState(m0, M, ri / (l0 - m0))
@@ -207,30 +212,31 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
     else:
         sdd = None
     sj = _slider(g, s0, u0, s, sd, sdd, order)
-    return DyadOut(si, sj, ok, cond, gap, {"mode": mode, "s": s, "sd": sd, "sdd": sdd})
+    return DyadOut(si, sj, ok, cond, gap, {"mode": mode0, "s": s, "sd": sd, "sdd": sdd})
 
 
 def rpr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, s0: complex, u0: complex,
-        order: int) -> DyadOut:
+        order: int, flip: Arr | None = None, tol: float = 0.0) -> DyadOut:
     """RPR dyad: link i (pin M) slides on link j (pin H) along the axis through s0, direction u0.
 
     Both links turn together. Mode: sign of the along-axis distance from H to M, drawn pose.
     """
     c = cross(np.asarray(u0), np.asarray(m0 - h0)).item()  # constant offset of M from H ⟂ axis
     a_d = dot(np.asarray(u0), np.asarray(m0 - h0)).item()
-    mode = 1.0 if a_d >= 0.0 else -1.0
+    mode0 = 1.0 if a_d >= 0.0 else -1.0
+    mode = mode0 if flip is None else mode0 * flip
     M, H = m_state.point(m0), h_state.point(h0)
     d = M - H
     D = np.abs(d)
-    root, ok = _sqrt_ok((D - c) * (D + c))
     gap = D - abs(c)
+    root, ok = _sqrt_ok((D - c) * (D + c), gap, tol)
     sigma = mode * root
     u = d / (sigma + 1j * c)
     rot = u / u0
     s = sigma - a_d  # slide of link i relative to link j, 0 in the drawn pose
     si, sj = LinkState(m0, M, rot), LinkState(h0, H, rot)
     c1, c2 = u, 1j * d
-    cond = np.abs(sigma) / D
+    cond = np.minimum(np.abs(sigma) / max(abs(m0 - h0), abs(c)), 1.0)  # 0 as the pin meets the axis foot
     if order >= 1:
         vM, vH = m_state.velocity(m0, M), h_state.velocity(h0, H)
         sd, w, _ = solve2(c1, c2, vM - vH)
@@ -243,11 +249,11 @@ def rpr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, s0: co
         si.aA, sj.aA, si.alpha, sj.alpha = aM, aH, al, al
     else:
         sdd = None
-    return DyadOut(si, sj, ok, cond, gap, {"mode": mode, "s": s, "sd": sd, "sdd": sdd})
+    return DyadOut(si, sj, ok, cond, gap, {"mode": mode0, "s": s, "sd": sd, "sdd": sdd})
 
 
 def prp(g1: LinkState, s1: complex, u1_0: complex, g2: LinkState, s2: complex, u2_0: complex,
-        l0: complex, order: int) -> DyadOut:
+        l0: complex, order: int, flip: Arr | None = None) -> DyadOut:
     """PRP dyad: link i slides on a guide of g1, link j on a guide of g2, pinned together at L.
 
     No assembly mode (two lines meet once); singular when the guides are parallel.
@@ -279,7 +285,7 @@ def prp(g1: LinkState, s1: complex, u1_0: complex, g2: LinkState, s2: complex, u
 
 
 def rpp(m_state: LinkState, m0: complex, si0: complex, ui0: complex, g: LinkState, s2: complex,
-        u2_0: complex, order: int) -> DyadOut:
+        u2_0: complex, order: int, flip: Arr | None = None) -> DyadOut:
     """RPP dyad: link i pinned at M slides (axis si0, ui0) on link j, which slides on a guide of g.
 
     Both links keep the guide's rotation. No assembly mode; singular when the two axes are parallel.

@@ -19,6 +19,9 @@ from .structure import Group, decompose, mobility
 
 #: below this conditioning (|sin| of the velocity system's column angle) a sample is near a toggle
 TOGGLE_COND = 1e-3
+#: an assembly margin within TOUCH_REL · (group size + coordinate size) of zero is a toggle
+#: touched exactly (rounding, not geometry): it assembles, and may be a branch point
+TOUCH_REL = 64 * np.finfo(float).eps
 
 
 def _c(xy) -> complex:
@@ -31,7 +34,8 @@ class Step:
 
     group: Group
     needs: tuple[str, str]
-    run: Callable[[dict, int], K.DyadOut]
+    run: Callable[[dict, int, "np.ndarray | None"], K.DyadOut]
+    scale: float = 1.0   # length scale of the group (mm), for branch-point tolerances
 
 
 @dataclass
@@ -46,6 +50,8 @@ class Plan:
     reporter: dict[str, str]          # joint -> link whose frame reports its position
     angle0: dict[str, float]          # moving link -> drawn angle of its first→second joint
     solved_by: dict[str, int] = field(default_factory=dict)  # link -> step index (-1: driver/ground)
+    coord_scale: float = 0.0          # largest drawn coordinate magnitude, mm
+    _branches: dict[str, np.ndarray] | None = field(default=None, repr=False)
 
     @property
     def mobility(self) -> int:
@@ -56,44 +62,67 @@ class Plan:
         """Driver angular speed, rad/s (signed, CCW positive)."""
         return self.linkage.driver.omega
 
+    @property
+    def direction(self) -> float:
+        """+1 if the driver turns counter-clockwise, else −1."""
+        return 1.0 if self.omega >= 0 else -1.0
+
+    def _needed(self, links: Iterable[str]) -> set[int]:
+        need: set[int] = set()
+        stack = list(links)
+        while stack:
+            k = self.solved_by[stack.pop()]
+            if k >= 0 and k not in need:
+                need.add(k)
+                stack.extend(self.steps[k].needs)
+        return need
+
+    def closure(self, k: int) -> list[int]:
+        """Step ``k`` and every step it depends on, in solving order."""
+        return sorted(self._needed(self.steps[k].needs) | {k})
+
     def steps_for(self, joints: Iterable[str] | None) -> list[int]:
         """Indices of the steps needed to know ``joints`` (all steps if None)."""
         if joints is None:
             return list(range(len(self.steps)))
-        need: set[int] = set()
-        stack = []
+        links = []
         for j in joints:
             self.linkage.joint(j)
-            stack.append(self.reporter[j])
-        while stack:
-            link = stack.pop()
-            k = self.solved_by[link]
-            if k >= 0 and k not in need:
-                need.add(k)
-                stack.extend(self.steps[k].needs)
-        return sorted(need)
+            links.append(self.reporter[j])
+        return sorted(self._needed(links))
 
-    def evaluate(self, inputs, order: int = 2, omega: float | None = None, alpha: float = 0.0,
-                 joints: Iterable[str] | None = None, t=None) -> "Solution":
-        """Solve at driver angles ``inputs`` (rad, shape (N,)), with driver speed ``omega`` (rad/s).
+    def branch_points(self, steps: Iterable[int] | None = None) -> dict[str, np.ndarray]:
+        """Per group, the input offsets (rad from the drawn pose, driver direction) where the
+        smooth motion passes from one assembly mode to the other. Searched once per group, and
+        only for the groups asked for (``steps``, closed under dependencies; default all)."""
+        from .branches import find_branch_points
 
-        ``order`` 0: positions; 1: + velocities; 2: + accelerations. ``joints``: only what these
-        depend on is computed.
-        """
-        if order not in (0, 1, 2):
-            raise ValueError(f"order must be 0, 1 or 2, got {order}")
-        start = time.perf_counter()
-        inputs = np.asarray(inputs, dtype=float).reshape(-1)
-        w = self.omega if omega is None else float(omega)
+        if self._branches is None:
+            self._branches = {}
+        idx = range(len(self.steps)) if steps is None else steps
+        todo = [k for k in idx if self.steps[k].group.name not in self._branches]
+        if todo:
+            find_branch_points(self, todo, self._branches)
+        return self._branches
+
+    def run_steps(self, inputs: np.ndarray, order: int, idx: Iterable[int],
+                  branches: dict[str, np.ndarray], omega: float | None = None, alpha: float = 0.0,
+                  states: dict | None = None) -> dict[str, K.DyadOut]:
+        """Run the kernels of steps ``idx`` at ``inputs`` (the engine under :meth:`evaluate`)."""
+        from .branches import flip_factor
+
+        w = self.omega if omega is None else omega
         drv = self.linkage.driver
-        states: dict[str, K.LinkState] = {self.linkage.ground: K.ground_state(),
-                                          drv.link: K.crank(self.pivot, self.theta0, inputs, w, alpha, order)}
+        if states is None:
+            states = {}
+        states[self.linkage.ground] = K.ground_state()
+        states[drv.link] = K.crank(self.pivot, self.theta0, inputs, w, alpha, order)
         outs: dict[str, K.DyadOut] = {}
-        idx = self.steps_for(joints)
-        with np.errstate(invalid="ignore", divide="ignore"):
+        with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
             for k in idx:
                 step = self.steps[k]
-                out = step.run(states, order)
+                flip = flip_factor(branches.get(step.group.name), inputs, self.theta0, self.direction)
+                out = step.run(states, order, flip)
                 # assembled only where the solved poses are finite: the kernels' arithmetic can
                 # break down although their assembly test passed (outer joints exactly
                 # coincident: a 0/0 direction; lengths whose squares overflow)
@@ -102,9 +131,28 @@ class Plan:
                 states[step.group.link_i] = out.state_i
                 states[step.group.link_j] = out.state_j
                 outs[step.group.name] = out
-            valid = np.ones(inputs.shape, dtype=bool)
-            for out in outs.values():
-                valid &= out.ok
+        return outs
+
+    def evaluate(self, inputs, order: int = 2, omega: float | None = None, alpha: float = 0.0,
+                 joints: Iterable[str] | None = None, t=None) -> "Solution":
+        """Solve at driver angles ``inputs`` (rad, shape (N,)), with driver speed ``omega`` (rad/s).
+
+        ``order`` 0: positions; 1: + velocities; 2: + accelerations. ``joints``: only what these
+        depend on is computed. Each group keeps its drawn assembly mode, switched only at branch
+        points crossed since the drawn pose (so the motion stays on its smooth branch).
+        """
+        if order not in (0, 1, 2):
+            raise ValueError(f"order must be 0, 1 or 2, got {order}")
+        idx = self.steps_for(joints)
+        branches = self.branch_points(idx)
+        start = time.perf_counter()
+        inputs = np.asarray(inputs, dtype=float).reshape(-1)
+        w = self.omega if omega is None else float(omega)
+        states: dict[str, K.LinkState] = {}
+        outs = self.run_steps(inputs, order, idx, branches, w, alpha, states)
+        valid = np.ones(inputs.shape, dtype=bool)
+        for out in outs.values():
+            valid &= out.ok
         elapsed = time.perf_counter() - start
         return Solution(self, inputs, order, states, outs, valid, w, t, elapsed)
 
@@ -132,29 +180,40 @@ def _axis(linkage: Linkage, jid: str) -> tuple[complex, complex]:
 
 def _compile_step(linkage: Linkage, g: Group) -> Step:
     at = {j.id: _c(j.at) for j in linkage.joints}
+    # rounding tolerance of an assembly margin (mm): scale of the group plus of the coordinates
+    coord = max((abs(p) for p in at.values()), default=0.0)
+    def touch_tol(size: float) -> float:
+        return TOUCH_REL * (size + coord)
     ki, kj = g.known_i, g.known_j
+    scale = 1.0
     if g.kind == "RRR":
         m0, h0, l0 = at[g.outer_i], at[g.outer_j], at[g.inner]
-        run = lambda s, o: K.rrr(s[ki], m0, s[kj], h0, l0, o)  # noqa: E731
+        scale = abs(l0 - m0) + abs(l0 - h0)
+        tol = touch_tol(scale)
+        run = lambda s, o, f: K.rrr(s[ki], m0, s[kj], h0, l0, o, f, tol)  # noqa: E731
     elif g.kind == "RRP":
         m0, l0 = at[g.outer_i], at[g.inner]
         s0, u0 = _axis(linkage, g.outer_j)
-        run = lambda s, o: K.rrp(s[ki], m0, s[kj], s0, u0, l0, o)  # noqa: E731
+        scale = abs(l0 - m0)
+        tol = touch_tol(scale)
+        run = lambda s, o, f: K.rrp(s[ki], m0, s[kj], s0, u0, l0, o, f, tol)  # noqa: E731
     elif g.kind == "RPR":
         m0, h0 = at[g.outer_i], at[g.outer_j]
         s0, u0 = _axis(linkage, g.inner)
-        run = lambda s, o: K.rpr(s[ki], m0, s[kj], h0, s0, u0, o)  # noqa: E731
+        scale = abs(m0 - h0)
+        tol = touch_tol(scale)
+        run = lambda s, o, f: K.rpr(s[ki], m0, s[kj], h0, s0, u0, o, f, tol)  # noqa: E731
     elif g.kind == "PRP":
         s1, u1 = _axis(linkage, g.outer_i)
         s2, u2 = _axis(linkage, g.outer_j)
         l0 = at[g.inner]
-        run = lambda s, o: K.prp(s[ki], s1, u1, s[kj], s2, u2, l0, o)  # noqa: E731
+        run = lambda s, o, f: K.prp(s[ki], s1, u1, s[kj], s2, u2, l0, o)  # noqa: E731
     else:  # RPP
         m0 = at[g.outer_i]
         si0, ui0 = _axis(linkage, g.inner)
         s2, u2 = _axis(linkage, g.outer_j)
-        run = lambda s, o: K.rpp(s[ki], m0, si0, ui0, s[kj], s2, u2, o)  # noqa: E731
-    return Step(g, (ki, kj), run)
+        run = lambda s, o, f: K.rpp(s[ki], m0, si0, ui0, s[kj], s2, u2, o)  # noqa: E731
+    return Step(g, (ki, kj), run, max(scale, 1e-300))
 
 
 def compile_plan(linkage: Linkage) -> Plan:
@@ -186,7 +245,8 @@ def compile_plan(linkage: Linkage) -> Plan:
         pts = [_c(linkage.joint(j).at) for j in lk.joints[:2]]
         v = pts[1] - pts[0] if len(pts) == 2 else 0j
         angle0[lk.id] = math.atan2(v.imag, v.real) if abs(v) > 0 else 0.0
-    return Plan(linkage, groups, steps, pivot, theta0, reporter, angle0, solved_by)
+    coord = max((abs(_c(j.at)) for j in linkage.joints), default=0.0)
+    return Plan(linkage, groups, steps, pivot, theta0, reporter, angle0, solved_by, coord)
 
 
 def _xy(z: np.ndarray, n: int) -> np.ndarray:

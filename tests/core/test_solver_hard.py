@@ -101,6 +101,11 @@ def _true_conditioning(lk, grp, st):
             th = st.pose[grp.link_j][2]
             a = mpmath.expj(th) * mpmath.expjpi(mpmath.mpf(lk.joint(grp.inner).axis_deg) / 180)
             b = 1j * (pt(grp.link_i, grp.outer_i) - pt(grp.link_j, grp.outer_j))
+            # |σ| scaled by the drawn size max(|M0 − H0|, |offset|): 0 also as the pin nears the pivot
+            m0, h0 = (mpmath.mpc(*lk.joint(j).at) for j in (grp.outer_i, grp.outer_j))
+            u0 = mpmath.expjpi(mpmath.mpf(lk.joint(grp.inner).axis_deg) / 180)
+            c = (mpmath.conj(u0) * (m0 - h0)).imag
+            return min(abs((mpmath.conj(a) * b).imag) / max(abs(m0 - h0), abs(c)), 1)
         return abs((mpmath.conj(a) * b).imag) / (abs(a) * abs(b))
 
 
@@ -133,7 +138,11 @@ def test_near_toggle_found_as_dead_point(kind, gap, mode):
     toggles = [p for p in d.dead_points if p.kind == "toggle"]
     assert len(toggles) == 1, d.dead_points
     assert abs(math.remainder(toggles[0].input - t, 2 * math.pi)) < 1e-6
-    assert toggles[0].conditioning == pytest.approx(math.sqrt(gap) * _cond_coeff(kind), rel=1e-3)
+    expect = math.sqrt(gap) * _cond_coeff(kind)
+    if kind == "RPR":  # σ is scaled by the drawn size |M0 − H0| (not by |M − H| = 60 at the toggle)
+        g = sol.groups[0]
+        expect *= 60.0 / abs(complex(*lk.joint(g.outer_i).at) - complex(*lk.joint(g.outer_j).at))
+    assert toggles[0].conditioning == pytest.approx(expect, rel=1e-3)
     assert d.full_turn
 
 
@@ -275,19 +284,12 @@ def test_parallelogram_change_points_keep_positions_continuous():
     assert _max_jump_ratio(lk, x) <= 1.0
 
 
-@pytest.mark.xfail(strict=True, reason="known limitation: when the two outer joints of an RRR group "
-                   "coincide (rhombus four-bar, B passes through D) the mode, read relative to M→H, "
-                   "flips meaning and the coupler jumps by 2·length; a continuous branch exists")
 def test_rhombus_four_bar_passes_b_through_d_without_a_jump():
     lk = R.fourbar(crank=60.0, coupler=60.0, rocker=60.0, ground=60.0, theta0=36.67)
     x = lk.compile().theta0 + np.linspace(0.0, 2 * math.pi, 7200, endpoint=False) + 1e-7
     assert _max_jump_ratio(lk, x) <= 1.0
 
 
-@pytest.mark.xfail(strict=True, reason="known limitation: an inverted slider-crank whose axis passes "
-                   "through the rocker pivot (offset 0) with crank = pivot distance runs its pin through "
-                   "the pivot; the mode (sign of the slide along the axis) then flips meaning and the "
-                   "rocker turns by π between two samples")
 def test_inverted_slider_crank_pin_through_the_pivot_without_a_jump():
     lk = R.inverted_slider_crank(crank=50.0, ground=50.0, offset=0.0, theta0=40.0)
     x = lk.compile().theta0 + np.linspace(0.0, 2 * math.pi, 7200, endpoint=False) + 1e-7

@@ -1,0 +1,100 @@
+"""Branch points: where a group touches its toggle without leaving its assembly range.
+
+At such a point (a change point of a Grashof linkage with s + l = p + q, a parallelogram's
+crossing, a rhombus whose outer joints pass through each other, an inverted slider-crank whose pin
+runs through the pivot) the two assembly modes meet, and the motion that stays smooth — the one
+whose velocity is continuous — continues in the other mode as read from the drawn pose. Keeping
+the drawn mode there would turn a parallelogram into an antiparallelogram, or jump by twice a
+link length. Passing *close* to a toggle (any gap the arithmetic can resolve) is not a branch
+point: the mode is then kept, as it must be.
+
+Branch points are found once per plan on a reference sweep: local minima of the group's assembly
+margin (``DyadOut.gap``, mm) are refined by golden-section search, and a minimum within rounding
+of zero (relative to the group's size and the coordinates) is a touch. They are stored as offsets
+δ ∈ (0, 2π) from the drawn input, in the driver's direction; :func:`flip_factor` turns them into
+±1 per sample for any array of inputs (every crossing since the drawn pose flips the mode).
+"""
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from .plan import TOUCH_REL
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .plan import Plan
+
+REF_SAMPLES = 1440
+#: a sampled local minimum of gap/scale below this is refined
+CANDIDATE = 2e-2
+GOLDEN_STEPS = 80
+TWO_PI = 2.0 * math.pi
+
+
+def _golden(f, a: float, b: float) -> tuple[float, float]:
+    g = (math.sqrt(5.0) - 1.0) / 2.0
+    c, d = b - g * (b - a), a + g * (b - a)
+    fc, fd = f(c), f(d)
+    for _ in range(GOLDEN_STEPS):
+        if fc < fd:
+            b, d, fd = d, c, fc
+            c = b - g * (b - a)
+            fc = f(c)
+        else:
+            a, c, fc = c, d, fd
+            d = a + g * (b - a)
+            fd = f(d)
+    x = 0.5 * (a + b)
+    return x, f(x)
+
+
+def find_branch_points(plan: "Plan", steps, known: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """Add to ``known`` the branch-point offsets (rad, sorted, in (0, 2π)) of the groups of
+    ``steps`` (indices closed under dependencies, in solving order), keyed by group name."""
+    sg = plan.direction
+    delta = np.arange(REF_SAMPLES) * (TWO_PI / REF_SAMPLES)
+    inputs = plan.theta0 + sg * delta
+    step_h = TWO_PI / REF_SAMPLES
+    for k in sorted(steps):
+        step = plan.steps[k]
+        name = step.group.name
+        if name in known:
+            continue
+        if step.group.kind not in ("RRR", "RRP", "RPR"):
+            known[name] = np.empty(0)
+            continue
+        idx = plan.closure(k)
+        out = plan.run_steps(inputs, 0, idx, known)[name]
+        ok = out.ok
+        gap = np.where(ok, out.gap, -np.inf)
+        good = ok & np.roll(ok, 1) & np.roll(ok, -1)
+        cand = np.flatnonzero(good & (gap <= np.roll(gap, 1)) & (gap <= np.roll(gap, -1))
+                              & (gap < CANDIDATE * step.scale))
+        thr = TOUCH_REL * (step.scale + plan.coord_scale)
+
+        def margin(d: float) -> float:
+            o = plan.run_steps(np.array([plan.theta0 + sg * d]), 0, idx, known)[name]
+            return abs(float(o.gap[0])) if np.isfinite(o.gap[0]) else math.inf
+
+        found: list[float] = []
+        for c in cand:
+            d, f = _golden(margin, delta[c] - step_h, delta[c] + step_h)
+            d %= TWO_PI
+            if f <= thr and 1e-9 < d < TWO_PI - 1e-9 and all(abs(d - e) > 1e-7 for e in found):
+                found.append(d)
+        known[name] = np.array(sorted(found))
+    return known
+
+
+def flip_factor(offsets: np.ndarray | None, inputs: np.ndarray, theta0: float, direction: float
+                ) -> np.ndarray | None:
+    """±1 per input: −1 where an odd number of branch points lies between the drawn pose and it."""
+    if offsets is None or offsets.size == 0:
+        return None
+    delta = direction * (inputs - theta0)
+    turns = np.floor(delta / TWO_PI)
+    frac = delta - turns * TWO_PI
+    n = turns * offsets.size + np.searchsorted(offsets, frac, side="right")
+    return 1.0 - 2.0 * (n % 2)
