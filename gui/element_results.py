@@ -1,0 +1,346 @@
+"""Solve results of the non-linkage elements (Geneva drives, rolling levers) for the desktop app.
+
+Qt-free. The controller calls :meth:`ResultCache.solve` once per scene change for every Geneva
+drive and rolling lever; each result holds the core's analyses and the per-frame arrays the canvas
+animates, so nothing is computed per animation frame:
+
+- :class:`GenevaResult` - kinematics and contact/wear over one crank revolution (N = the element's
+  ``samples``), the exact drawable geometry (or why it cannot be built), and per frame the crank's
+  and the wheel's world rotations (rad) read from the kinematics;
+- :class:`RollingResult` - the synthesis (with the slip measures), the static curves (frame
+  profile, slider profile in the slider frame, bicentrode) and :class:`RollingFrames`: one crank
+  revolution from the folded dead centre when the element has a drive (``drive.frames(φ)``),
+  else the stroke there and back with a cosine law (``pose(θ)``).
+
+Failures are data: a result with ``error`` set (the core's message), never an exception.
+Results are cached by element value, so undo/redo and a pre-check before an edit cost nothing.
+"""
+from __future__ import annotations
+
+import copy
+import math
+import time
+from collections import OrderedDict
+from dataclasses import dataclass, field
+from typing import Any, Union
+
+import numpy as np
+
+from mechsketch.core.analyses.geneva_contact import GenevaContact
+from mechsketch.core.analyses.geneva_geometry import GenevaGeometry
+from mechsketch.core.analyses.geneva_kinematics import GenevaKinematics
+from mechsketch.core.analyses.rolling_geometry import rot
+from mechsketch.core.analyses.rolling_synthesis import RollingSynthesis
+from mechsketch.core.errors import MechsketchError
+from mechsketch.core.io.scene_file import scene_from_dict
+from mechsketch.core.model.geneva import Geneva
+from mechsketch.core.model.rolling_lever import RollingLever
+from mechsketch.core.model.scene import FORMAT, SCHEMA_VERSION
+
+#: frames of a rolling lever's animation cycle: 2·points, at least this many
+ROLLING_MIN_FRAMES = 360
+#: points on the drawn frame and slider profiles (polylines of the exact curves)
+PROFILE_POINTS = 400
+#: results kept by :class:`ResultCache` (undo/redo, pre-checks of edits)
+CACHE_SIZE = 16
+#: the selection kind of a whole Geneva drive or rolling lever: ``(element id, ELEMENT, element id)``
+ELEMENT = "element"
+
+
+def map_frame(frame: int, n_frames: int, n: int) -> int:
+    """The sample of an element with ``n`` frames shown at global frame ``frame`` of ``n_frames``
+    (the same cycle-phase mapping the canvas uses for linkages of different sample counts)."""
+    if n_frames <= 0 or n == n_frames:
+        return frame % max(n, 1)
+    return int(round(frame * n / n_frames)) % n
+
+
+def _message(exc: BaseException) -> str:
+    return str(exc).strip() or type(exc).__name__
+
+
+# -- Geneva ------------------------------------------------------------------------------------
+@dataclass
+class GenevaResult:
+    """One Geneva drive solved over one crank revolution of N samples.
+
+    ``crank_rotation`` and ``wheel_rotation`` (N,) rad are the world rotations of the driver parts
+    (about the crank centre) and of the wheel (about its centre) from their built frames, at frame
+    k: direction + φ_k and direction + wheel.angle_k (the kinematics' world-frame wheel angle,
+    ∓π/z held still in the dwell). ``error`` is the core's message when the drive or its drawing
+    cannot be built (the kinematics may still be there for the plots).
+    """
+
+    element: Geneva
+    kinematics: GenevaKinematics | None = None
+    contact: GenevaContact | None = None
+    geometry: GenevaGeometry | None = None
+    crank_rotation: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    wheel_rotation: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    error: str | None = None
+    seconds: float = 0.0
+    _summary: str | None = field(default=None, repr=False)
+
+    kind = "geneva"
+
+    @property
+    def element_id(self) -> str:
+        return self.element.id
+
+    @property
+    def ok(self) -> bool:
+        return self.error is None
+
+    @property
+    def n_frames(self) -> int:
+        """Frames of the animation cycle (0 when nothing can be animated)."""
+        return len(self.crank_rotation) if self.geometry is not None else 0
+
+    def phi_deg(self) -> np.ndarray:
+        """Crank angle φ of every sample (°, from the line of centres, time order)."""
+        return np.degrees(self.kinematics.phi) if self.kinematics is not None else np.zeros(0)
+
+    def summary(self) -> str:
+        """What ``mechsketch analyze SCENE --element ID --summary`` prints (computed once, on demand)."""
+        if self._summary is None:
+            if self.kinematics is None or self.contact is None:
+                self._summary = f"geneva {self.element.id!r}: {self.error}"
+            else:
+                from mechsketch.core.cli.geneva_cmds import summary
+
+                self._summary = summary(self.element, self.kinematics, self.contact)
+        return self._summary
+
+
+def solve_geneva(element: Geneva, samples: int | None = None) -> GenevaResult:
+    """Kinematics, contact/wear and the drawable geometry of ``element`` at ``samples`` points
+    (default the element's); the per-frame rotations. Never raises for a bad drive."""
+    t0 = time.perf_counter()
+    res = GenevaResult(element)
+    n = int(samples or element.samples)
+    try:
+        res.kinematics = element.kinematics(n)
+        res.contact = element.contact(n)
+    except (MechsketchError, ValueError) as exc:
+        res.error = _message(exc)
+        res.seconds = time.perf_counter() - t0
+        return res
+    direction = math.radians(element.wheel_direction_deg)
+    res.crank_rotation = direction + res.kinematics.phi
+    res.wheel_rotation = direction + res.kinematics.wheel_angle
+    try:
+        res.geometry = element.geometry()
+    except (MechsketchError, ValueError) as exc:
+        res.error = f"cannot draw the drive: {_message(exc)}"
+    res.seconds = time.perf_counter() - t0
+    return res
+
+
+# -- rolling lever -----------------------------------------------------------------------------
+@dataclass
+class RollingFrames:
+    """The rolling lever at each frame of its animation cycle, arrays over N frames.
+
+    ``theta`` lever rotation (rad, 0 = drawn pose), ``alpha`` rocker angle (rad), ``F`` the pin,
+    ``P`` the pair-D contact, ``P0`` the pair-E contact (N, 2) mm in the ground; ``S5`` slider
+    travel (mm). With a drive: ``phi`` crank angle (rad, CCW from the folded dead centre), crank
+    pivot ``A``, crank pin ``B`` and lever point ``C`` (N, 2) mm; else they are None.
+    """
+
+    theta: np.ndarray
+    alpha: np.ndarray
+    F: np.ndarray
+    P: np.ndarray
+    P0: np.ndarray
+    S5: np.ndarray
+    phi: np.ndarray | None = None
+    A: np.ndarray | None = None
+    B: np.ndarray | None = None
+    C: np.ndarray | None = None
+
+    def __len__(self) -> int:
+        return len(self.theta)
+
+
+@dataclass
+class RollingResult:
+    """One rolling lever synthesised, with what the canvas and the plots draw.
+
+    ``frame_profile`` (M, 2) mm ground frame and ``slider_profile`` (M, 2) mm slider frame are
+    polylines through the synthesis' profile curves; ``bicentrode`` (N+1, 2) mm the locus of P0;
+    ``lever_arc`` and ``slider_arc`` (start, end) rad the contact angles u1, u2 over the stroke
+    (lever frame). ``slip_d`` / ``slip_e`` (N+1,) mm: the cumulative kinematic slip of pairs D and
+    E along the stroke (the per-interval terms of the core's ``kinematic_slip``; the last values
+    equal the summary's). ``error`` holds the core's message when the synthesis failed.
+    """
+
+    element: RollingLever
+    synthesis: RollingSynthesis | None = None
+    frames: RollingFrames | None = None
+    frame_profile: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
+    slider_profile: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
+    bicentrode: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
+    lever_arc: tuple[float, float] = (0.0, 0.0)
+    slider_arc: tuple[float, float] = (0.0, 0.0)
+    slip_d: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    slip_e: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    error: str | None = None
+    seconds: float = 0.0
+
+    kind = "rolling_lever"
+
+    @property
+    def element_id(self) -> str:
+        return self.element.id
+
+    @property
+    def ok(self) -> bool:
+        return self.error is None
+
+    @property
+    def n_frames(self) -> int:
+        return len(self.frames) if self.frames is not None else 0
+
+    def summary(self) -> str:
+        """What ``mechsketch synthesize SCENE --element ID --summary`` prints."""
+        if self.synthesis is None:
+            return f"rolling lever {self.element.id!r}: {self.error}"
+        return self.synthesis.summary()
+
+
+def cumulative_slip(res: RollingSynthesis) -> tuple[np.ndarray, np.ndarray]:
+    """Cumulative kinematic slip of pairs D and E (N+1,) mm along the stroke samples: the running
+    sums of the terms of :func:`mechsketch.core.analyses.rolling_slip.point_measures`."""
+    g = res.geom
+    f = np.asarray(g.f)
+    F, th, S5 = res.F, res.theta, res.S5
+
+    def moved(centre: tuple[float, float], radius: float, u: np.ndarray) -> np.ndarray:
+        um = 0.5 * (u[1:] + u[:-1])
+        m = np.asarray(centre) + radius * np.stack([np.cos(um), np.sin(um)], axis=-1)
+        return (F[1:] + rot(th[1:], m - f)) - (F[:-1] + rot(th[:-1], m - f))
+
+    d = np.linalg.norm(moved(g.c1, g.R1, res.u1), axis=1)
+    e = np.linalg.norm(moved(g.c2, g.R2, res.u2) - np.diff(S5)[:, None] * np.asarray(g.ds), axis=1)
+    return np.concatenate([[0.0], np.cumsum(d)]), np.concatenate([[0.0], np.cumsum(e)])
+
+
+def _rolling_frames(res: RollingSynthesis, n: int) -> RollingFrames:
+    """The animation cycle (see :class:`RollingFrames`)."""
+    k = np.arange(n, dtype=float)
+    drive = res.drive
+    if drive is not None:
+        phi = drive.phi_folded + 2.0 * math.pi * k / n
+        m = drive.frames(phi)
+        return RollingFrames(m.theta, m.alpha, m.F, m.P, m.P0, m.S5, phi, m.A, m.B, m.C)
+    st = res.element.stroke
+    theta = st.start + st.span * 0.5 * (1.0 - np.cos(2.0 * math.pi * k / n))
+    state, s5 = res.pose(theta)
+    return RollingFrames(theta, state.alpha, state.F, state.P, state.P0, s5)
+
+
+def _curve(curve_range, points: int) -> np.ndarray:
+    curve, t0, t1 = curve_range
+    return np.asarray(curve(np.linspace(t0, t1, points)), dtype=float)
+
+
+def rolling_frame_count(element: RollingLever) -> int:
+    """Frames of the animation cycle: 2·points (there and back), at least :data:`ROLLING_MIN_FRAMES`."""
+    return max(2 * int(element.points), ROLLING_MIN_FRAMES)
+
+
+def solve_rolling(element: RollingLever) -> RollingResult:
+    """Synthesise ``element`` (with the slip measures) and precompute its frames and curves."""
+    t0 = time.perf_counter()
+    out = RollingResult(element)
+    try:
+        res = element.synthesize(measures=True)
+        out.frames = _rolling_frames(res, rolling_frame_count(element))
+        out.frame_profile = _curve(res.frame_profile(), PROFILE_POINTS)
+        out.slider_profile = _curve(res.slider_profile(), PROFILE_POINTS)
+    except (MechsketchError, ValueError) as exc:
+        out.error = _message(exc)
+        out.frames = None
+        out.seconds = time.perf_counter() - t0
+        return out
+    out.synthesis = res
+    out.bicentrode = np.asarray(res.P0, dtype=float)
+    out.lever_arc = (float(np.min(res.u1)), float(np.max(res.u1)))
+    out.slider_arc = (float(np.min(res.u2)), float(np.max(res.u2)))
+    out.slip_d, out.slip_e = cumulative_slip(res)
+    out.seconds = time.perf_counter() - t0
+    return out
+
+
+ElementResult = Union[GenevaResult, RollingResult]
+
+
+def solve_element(element, samples: int | None = None) -> ElementResult | None:
+    """The result of a Geneva drive or rolling lever; None for other element types."""
+    if isinstance(element, Geneva):
+        return solve_geneva(element, samples)
+    if isinstance(element, RollingLever):
+        return solve_rolling(element)
+    return None
+
+
+def rebuilt(element, changes: dict[str, Any]) -> tuple[Any, str | None]:
+    """``element`` with ``changes`` applied to its dict (dotted keys: ``{"clearance.slot": 0.1}``),
+    built as a scene file is read: the element's JSON schema, then its module's ``parse``.
+
+    Returns (new element, None), or (None, the core's messages) when the values are refused.
+    """
+    data = copy.deepcopy(element.to_dict())
+    for key, value in changes.items():
+        node = data
+        *parents, leaf = key.split(".")
+        for part in parents:
+            node = node.setdefault(part, {})
+        node[leaf] = value
+    doc = {"format": FORMAT, "schema_version": SCHEMA_VERSION, "units": "mm", "elements": [data]}
+    scene, problems = scene_from_dict(doc, source=f"element {element.id}")
+    if problems or scene is None:
+        def text(p) -> str:
+            tail = p.path.removeprefix("$.elements[0]").lstrip(".")
+            return p.message if not tail or tail in changes else f"{tail}: {p.message}"
+        return None, "; ".join(text(p) for p in problems) or "refused"
+    return scene.elements[0], None
+
+
+def element_target(controller) -> str | None:
+    """The Geneva drive or rolling lever the panels show: the first one selected, else - when
+    nothing is selected and the scene has no linkage - the scene's first one (None if neither)."""
+    results = controller.element_results()
+    for eid, kind, _ident in controller.selection:
+        if kind == ELEMENT and eid in results:
+            return eid
+    if not controller.selection and not controller.linkages():
+        return next(iter(results), None)
+    return None
+
+
+class ResultCache:
+    """Results of the last few elements solved, by element value (elements are immutable)."""
+
+    def __init__(self, size: int = CACHE_SIZE) -> None:
+        self.size = size
+        self._store: OrderedDict[tuple, ElementResult | None] = OrderedDict()
+
+    def solve(self, element, samples: int | None = None) -> ElementResult | None:
+        """:func:`solve_element` once per (element, samples); later calls return the same object."""
+        key = (element, samples if isinstance(element, Geneva) else None)
+        try:
+            hit = key in self._store
+        except TypeError:  # an unhashable element (not one of ours): solve it uncached
+            return solve_element(element, samples)
+        if hit:
+            self._store.move_to_end(key)
+            return self._store[key]
+        res = solve_element(element, samples)
+        self._store[key] = res
+        while len(self._store) > self.size:
+            self._store.popitem(last=False)
+        return res
+
+    def clear(self) -> None:
+        self._store.clear()
