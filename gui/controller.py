@@ -20,6 +20,8 @@ from mechsketch.core.model.scene import Scene
 from mechsketch.core.solver.diagnostics import Diagnostics, diagnose
 from mechsketch.core.solver.plan import Plan, Solution
 
+from .element_results import ElementResult, ResultCache
+
 DEFAULT_SAMPLES = 360
 
 
@@ -77,6 +79,8 @@ class SceneController(QObject):
         self.selection: list[tuple[str, str, str]] = []   # (element id, "joint"|"link", id)
         self.frame = 0
         self._results: dict[str, SolveResult] = {}
+        self._element_results: dict[str, ElementResult] = {}   # Geneva drives, rolling levers
+        self._element_cache = ResultCache()
         self._drag_base: Scene | None = None
         self._resolve()
 
@@ -98,6 +102,21 @@ class SceneController(QObject):
 
     def results(self) -> dict[str, SolveResult]:
         return dict(self._results)
+
+    def element_result(self, element_id: str) -> ElementResult | None:
+        """The result of a Geneva drive or rolling lever (None for a linkage or an unknown id)."""
+        return self._element_results.get(element_id)
+
+    def element_results(self) -> dict[str, ElementResult]:
+        """Results of every Geneva drive and rolling lever, in scene order."""
+        return dict(self._element_results)
+
+    def check_element(self, element) -> str | None:
+        """Solve ``element`` (a Geneva drive or rolling lever, not yet in the scene) as the
+        controller would; the core's message if it fails, else None (the result is kept for
+        when the edit lands)."""
+        res = self._element_cache.solve(element, self.samples_override)
+        return None if res is None else res.error
 
     @property
     def is_dirty(self) -> bool:
@@ -179,9 +198,14 @@ class SceneController(QObject):
             self.frameChanged.emit(index)
 
     def sample_count(self) -> int:
+        """Frames of the animation cycle: the first solved linkage's samples, else the first
+        animatable Geneva drive's or rolling lever's frames (others map by cycle phase)."""
         for r in self._results.values():
             if r.solution is not None:
                 return len(r.solution)
+        for e in self._element_results.values():
+            if e.n_frames:
+                return e.n_frames
         return 0
 
     # -- solving ----------------------------------------------------------------------------
@@ -207,6 +231,22 @@ class SceneController(QObject):
             res.seconds = time.perf_counter() - t0
             results[el.id] = res
         self._results = results
+        self._resolve_elements()
         n = self.sample_count()
         if n and self.frame >= n:
             self.frame = 0
+
+    def _resolve_elements(self) -> None:
+        """Solve each Geneva drive and rolling lever once per change of that element (cached by
+        value: a linkage drag or an undo does not recompute them); failures become messages."""
+        old, new = self._element_results, {}
+        for el in self.scene.elements:
+            if isinstance(el, Linkage):
+                continue
+            res = self._element_cache.solve(el, self.samples_override)
+            if res is None:
+                continue
+            new[el.id] = res
+            if res.error is not None and old.get(el.id) is not res:
+                self.solveFailed.emit(el.id, res.error)
+        self._element_results = new
