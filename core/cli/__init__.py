@@ -96,10 +96,31 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
+def _structure_problems(scene) -> list:
+    """Linkages that load but cannot be solved (mobility, higher-class group, no driver yet)."""
+    from ..errors import Problem, StructureError
+    from ..model.linkage import Linkage
+
+    out = []
+    for k, el in enumerate(scene.elements):
+        if isinstance(el, Linkage):
+            try:
+                el.compile()
+            except StructureError as exc:
+                who = ", ".join(exc.joints) if exc.joints else None
+                out.append(Problem(f"$.elements[{k}]", str(exc) + (f" [joints {who}]" if who else ""), el.id))
+    return out
+
+
+MAX_SAMPLES = 1_000_000
+
+
 def run(args: argparse.Namespace) -> int:
     """Run a parsed headless command; returns the exit status."""
     if args.command == "validate":
         problems = validate_file(args.scene)
+        if not problems:
+            problems = _structure_problems(load_scene(args.scene))
         for prob in problems:
             print(prob)
         if not problems:
@@ -107,8 +128,8 @@ def run(args: argparse.Namespace) -> int:
         return 0 if not problems else 1
     scene = load_scene(args.scene)
     if args.command == "analyze":
-        if args.samples is not None and args.samples < 2:
-            raise CliError(f"--samples must be at least 2, got {args.samples}")
+        if args.samples is not None and not 2 <= args.samples <= MAX_SAMPLES:
+            raise CliError(f"--samples must be from 2 to {MAX_SAMPLES:,}, got {args.samples:,}")
         el = _pick(scene, args.element, "analyze")
         _emit(_handler(el, "analyze")(el, args.samples), args.csv, args.summary)
     elif args.command == "export":

@@ -111,6 +111,11 @@ class Linkage:
         return tuple(k.id for k in self.links)
 
     @property
+    def has_driver(self) -> bool:
+        """False for a draft whose crank is not drawn yet (saved as ``"driver": null``)."""
+        return self.driver.link in self.link_ids and self.driver.link != self.ground
+
+    @property
     def moving_links(self) -> tuple[str, ...]:
         return tuple(k.id for k in self.links if k.id != self.ground)
 
@@ -160,7 +165,7 @@ class Linkage:
             "joints": [j.to_dict() for j in self.joints],
             "links": [k.to_dict() for k in self.links],
             "ground": self.ground,
-            "driver": self.driver.to_dict(),
+            "driver": self.driver.to_dict() if self.has_driver else None,
             "samples": self.samples,
         }
 

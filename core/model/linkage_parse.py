@@ -13,8 +13,13 @@ from ..errors import Problem
 from .linkage import Driver, Joint, JointKind, Link, Linkage
 
 SCHEMA = "linkage.schema.json"
-#: two revolute joints of one link closer than this (mm, relative to the scene size) coincide
+#: driver speed given to a draft linkage (saved with "driver": null) until its crank is drawn
+DRAFT_RPM = 60.0
+#: two revolute joints of one link closer than this (mm, relative to the link's own span, at
+#: least 1 mm) coincide
 COINCIDENT_REL = 1e-9
+#: drawn coordinates beyond this (mm) are refused: the kinematics would lose all precision
+MAX_COORD = 1e9
 
 
 def parse(data: dict[str, Any], path: str) -> tuple[Linkage | None, list[Problem]]:
@@ -28,6 +33,9 @@ def parse(data: dict[str, Any], path: str) -> tuple[Linkage | None, list[Problem
     joints: list[Joint] = []
     for k, jd in enumerate(data["joints"]):
         x, y = (float(v) for v in jd["at"])
+        if math.isfinite(x) and math.isfinite(y) and max(abs(x), abs(y)) > MAX_COORD:
+            bad(f"joints[{k}].at", f"position {jd['at']} is beyond ±{MAX_COORD:g} mm", jd["id"])
+            continue
         if not (math.isfinite(x) and math.isfinite(y)):
             bad(f"joints[{k}].at", f"position must be finite numbers, got {jd['at']}", jd["id"])
             continue
@@ -79,9 +87,9 @@ def parse(data: dict[str, Any], path: str) -> tuple[Linkage | None, list[Problem
             bad(f"joints[{k}]", f"P joint {jid!r} must join exactly two links, it is on "
                 f"{len(member[jid])} ({', '.join(member[jid])})", jid)
 
-    scale = max((abs(c) for j in joints for c in j.at), default=1.0) or 1.0
     for k, lk in enumerate(links):
         revs = [joint_by_id[j] for j in lk.joints if j in joint_by_id and joint_by_id[j].kind is JointKind.R]
+        scale = max((math.hypot(p.at[0] - q.at[0], p.at[1] - q.at[1]) for p in revs for q in revs), default=1.0)
         for a in range(len(revs)):
             for b in range(a + 1, len(revs)):
                 p, q = revs[a].at, revs[b].at
@@ -94,31 +102,35 @@ def parse(data: dict[str, Any], path: str) -> tuple[Linkage | None, list[Problem
     if ground not in link_ids:
         bad("ground", f"ground names unknown link {ground!r}", ground)
     dd = data["driver"]
+    draft = dd is None  # the linkage is being drawn: no crank yet (saved as "driver": null)
+    if draft:
+        dd = {"link": "", "pivot": "", "speed_rpm": DRAFT_RPM}
     speed = float(dd.get("speed_rpm", 60.0))
-    if not math.isfinite(speed):
-        bad("driver.speed_rpm", f"must be a finite number, got {speed}", dd["link"])
-        speed = 60.0
-    elif speed == 0.0:
-        bad("driver.speed_rpm", "must not be zero (the sign gives the direction)", dd["link"])
-    if dd["link"] not in link_ids:
-        bad("driver.link", f"driver names unknown link {dd['link']!r}", dd["link"])
-    elif dd["link"] == ground:
-        bad("driver.link", "the driver cannot be the ground link", dd["link"])
-    else:
-        dl = next(lk for lk in links if lk.id == dd["link"])
-        if len(dl.joints) != 2:
-            bad("driver.link", f"driver {dl.id!r} must be a binary link (two joints), it has "
-                f"{len(dl.joints)}", dl.id)
-        if dd["pivot"] not in known_joints:
-            bad("driver.pivot", f"driver pivot names unknown joint {dd['pivot']!r}", dd["pivot"])
-        elif dd["pivot"] not in dl.joints:
-            bad("driver.pivot", f"pivot {dd['pivot']!r} is not a joint of driver {dl.id!r}", dd["pivot"])
+    if not draft:
+        if not math.isfinite(speed):
+            bad("driver.speed_rpm", f"must be a finite number, got {speed}", dd["link"])
+            speed = 60.0
+        elif speed == 0.0:
+            bad("driver.speed_rpm", "must not be zero (the sign gives the direction)", dd["link"])
+        if dd["link"] not in link_ids:
+            bad("driver.link", f"driver names unknown link {dd['link']!r}", dd["link"])
+        elif dd["link"] == ground:
+            bad("driver.link", "the driver cannot be the ground link", dd["link"])
         else:
-            pj = joint_by_id.get(dd["pivot"])
-            if pj is not None and pj.kind is not JointKind.R:
-                bad("driver.pivot", f"pivot {pj.id!r} must be a revolute joint", pj.id)
-            if ground in link_ids and dd["pivot"] not in next(lk for lk in links if lk.id == ground).joints:
-                bad("driver.pivot", f"pivot {dd['pivot']!r} is not on the ground link {ground!r}", dd["pivot"])
+            dl = next(lk for lk in links if lk.id == dd["link"])
+            if len(dl.joints) != 2:
+                bad("driver.link", f"driver {dl.id!r} must be a binary link (two joints), it has "
+                    f"{len(dl.joints)}", dl.id)
+            if dd["pivot"] not in known_joints:
+                bad("driver.pivot", f"driver pivot names unknown joint {dd['pivot']!r}", dd["pivot"])
+            elif dd["pivot"] not in dl.joints:
+                bad("driver.pivot", f"pivot {dd['pivot']!r} is not a joint of driver {dl.id!r}", dd["pivot"])
+            else:
+                pj = joint_by_id.get(dd["pivot"])
+                if pj is not None and pj.kind is not JointKind.R:
+                    bad("driver.pivot", f"pivot {pj.id!r} must be a revolute joint", pj.id)
+                if ground in link_ids and dd["pivot"] not in next(lk for lk in links if lk.id == ground).joints:
+                    bad("driver.pivot", f"pivot {dd['pivot']!r} is not on the ground link {ground!r}", dd["pivot"])
 
     if problems:
         return None, problems

@@ -298,6 +298,7 @@ class Solution:
             raise KeyError(f"link {link!r} was not solved (not requested)") from None
 
     def _mask(self, a: np.ndarray) -> np.ndarray:
+        """NaN where the pose is not assembled (arithmetic on NaN/inf there raises no warnings)."""
         if self._all_valid:
             return a
         if a.ndim == 2:
@@ -322,13 +323,15 @@ class Solution:
         """(N, 2) velocity, mm/s."""
         self._need(1, "velocity")
         st, p0 = self._joint(joint)
-        return self._mask(_xy(st.velocity(p0), len(self)))
+        with np.errstate(invalid="ignore", over="ignore"):
+            return self._mask(_xy(st.velocity(p0), len(self)))
 
     def acceleration(self, joint: str) -> np.ndarray:
         """(N, 2) acceleration, mm/s²."""
         self._need(2, "acceleration")
         st, p0 = self._joint(joint)
-        return self._mask(_xy(st.acceleration(p0), len(self)))
+        with np.errstate(invalid="ignore", over="ignore"):
+            return self._mask(_xy(st.acceleration(p0), len(self)))
 
     def point(self, link: str, xy) -> np.ndarray:
         """(N, 2) position of the point of ``link`` drawn at ``xy`` (mm)."""

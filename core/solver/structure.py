@@ -60,9 +60,10 @@ def _check_driver(linkage: Linkage) -> None:
     ids = linkage.link_ids
     if linkage.ground not in ids:
         raise StructureError(f"linkage {linkage.id!r} has no ground link {linkage.ground!r}", links=(linkage.ground,))
-    if drv.link not in ids or drv.link == linkage.ground:
-        raise StructureError(f"linkage {linkage.id!r} has no driver yet (driver link {drv.link!r} is not a "
-                             "moving link): add a crank", links=(drv.link,))
+    if not linkage.has_driver:
+        what = "" if not drv.link else f" (driver link {drv.link!r} is not a moving link)"
+        raise StructureError(f"linkage {linkage.id!r} has no driver yet{what}: draw a crank with the "
+                             "crank tool", links=(drv.link,) if drv.link else ())
     joints = linkage.link(drv.link).joints
     if len(joints) != 2 or drv.pivot not in joints:
         raise StructureError(f"driver {drv.link!r} must be a binary link with its pivot {drv.pivot!r}",
