@@ -26,10 +26,14 @@ from PySide6.QtGui import (QAction, QColor, QKeyEvent, QKeySequence, QMouseEvent
                            QTransform, QWheelEvent)
 from PySide6.QtWidgets import QGraphicsScene, QGraphicsView, QWidget
 
+from mechsketch.core.model.edits import RemoveElement
 from mechsketch.core.model.linkage import JointKind, Linkage
 
+from ..element_results import ELEMENT, GenevaResult, map_frame
 from .events import XY, CanvasEvent, Hit
+from .geneva_items import GenevaItem
 from .items import DeadPointItem, LinkageItem, OverlayItem, TraceItem
+from .rolling_items import RollingItem
 from .toolbox import ToolBox
 from .tools import ToolContext, delete_selection
 
@@ -106,6 +110,8 @@ class CanvasView(QGraphicsView):
         self._scene.setItemIndexMethod(QGraphicsScene.ItemIndexMethod.NoIndex)
         self.setScene(self._scene)
         self._items: dict[str, _ElementItems] = {}
+        #: Geneva drives and rolling levers: one item each, rebuilt when their result changes
+        self.element_items: dict[str, GenevaItem | RollingItem] = {}
         self._overlay = OverlayItem()
         self._scene.addItem(self._overlay)
         self._trace_override: dict[tuple[str, str], bool] = {}
@@ -257,12 +263,15 @@ class CanvasView(QGraphicsView):
         """Rebuild items after the document or its solutions changed (cheap when nothing did)."""
         ctl = self.controller
         # identity of the scene and of each solution (references held, so ids cannot be reused)
-        key = (ctl.scene, [(el, r.solution, r.error) for el, r in ctl.results().items()])
+        key = (ctl.scene, [(el, r.solution, r.error) for el, r in ctl.results().items()],
+               list(ctl.element_results().items()))
         old = self._key
         if (old is not None and old[0] is key[0] and len(old[1]) == len(key[1])
-                and all(a[0] == b[0] and a[1] is b[1] and a[2] == b[2] for a, b in zip(old[1], key[1]))):
+                and all(a[0] == b[0] and a[1] is b[1] and a[2] == b[2] for a, b in zip(old[1], key[1]))
+                and len(old[2]) == len(key[2]) and all(a[1] is b[1] for a, b in zip(old[2], key[2]))):
             return
         self._key = key
+        self._sync_elements()
         poses = self.ctx.poses()
         live = {p.element for p in poses}
         for gone in set(self._items) - live:
@@ -280,22 +289,56 @@ class CanvasView(QGraphicsView):
             items.trace.set_data(pose, self.traced_joints(pose.linkage))
             items.dead.set_data(pose, ctl.result(pose.element))
         self._highlight()
+        live = live | set(self.element_items)
         # a document replaced (open, new: history cleared), not a linkage begun with a tool
         replaced = live and not (live & self._ids) and ctl.undo_stack.count() == 0 and not self.ctx.pushing
         self._ids = live
         if replaced and self.isVisible():
             self.zoom_to_fit(quiet=True)
 
+    def _sync_elements(self) -> None:
+        """One item per Geneva drive / rolling lever, rebuilt only when its result changed."""
+        results = self.controller.element_results()
+        for gone in [eid for eid, it in self.element_items.items()
+                     if eid not in results or it.result is not results[eid]]:
+            self._scene.removeItem(self.element_items.pop(gone))
+        px = self.px()
+        for eid, res in results.items():
+            if eid not in self.element_items:
+                item = GenevaItem(res) if isinstance(res, GenevaResult) else RollingItem(res)
+                item.set_px(px)
+                self._scene.addItem(item)
+                self.element_items[eid] = item
+        self._frame_elements()
+
+    def _frame_elements(self) -> None:
+        """Show the element items at the displayed frame (cycle phase across sample counts)."""
+        frame, total = self.ctx.display_frame(), self.controller.sample_count()
+        for item in self.element_items.values():
+            if item.n_frames:
+                item.set_frame(map_frame(frame, total, item.n_frames))
+
     def _on_frame(self, _frame: int = 0) -> None:
         for pose in self.ctx.poses():
             items = self._items.get(pose.element)
             if items is not None:
                 items.linkage.set_pose(pose)
+        self._frame_elements()
+
+    def element_at(self, pos: XY, tol: float) -> str | None:
+        """The Geneva drive or rolling lever under the world point ``pos`` (mm), if any."""
+        for eid, item in reversed(list(self.element_items.items())):
+            if item.hit(pos, tol):
+                return eid
+        return None
 
     def _highlight(self) -> None:
         sel = self.controller.selection
         for el, items in self._items.items():
             items.linkage.set_highlight(self._hover, {(k, i) for e, k, i in sel if e == el})
+        chosen = {e for e, k, _ in sel if k == ELEMENT}
+        for eid, item in self.element_items.items():
+            item.set_selected(eid in chosen)
 
     # -- zoom -------------------------------------------------------------------------------------
     def extent(self) -> QRectF:
@@ -310,6 +353,8 @@ class CanvasView(QGraphicsView):
             if pts:
                 xs, ys = [p[0] for p in pts], [p[1] for p in pts]
                 rect = rect.united(QRectF(min(xs), min(ys), max(xs) - min(xs), max(ys) - min(ys)))
+        for item in self.element_items.values():
+            rect = rect.united(item.extent())
         return rect
 
     def zoom_to_fit(self, quiet: bool = False) -> None:
@@ -342,6 +387,8 @@ class CanvasView(QGraphicsView):
         for items in self._items.values():
             for it in items.all():
                 it.set_px(px)
+        for item in self.element_items.values():
+            item.set_px(px)
         self._overlay.set_px(px)
         self.viewport().update()
 
@@ -374,6 +421,8 @@ class CanvasView(QGraphicsView):
     def dispatch(self, ev: CanvasEvent) -> None:
         """Hand ``ev`` to the active tool and show the result (public for tests and macros)."""
         tool = self.toolbox.tool
+        if self._select_element(ev):
+            return
         tool.handle(ev)
         self._overlay.set_overlay(tool.overlay())
         if tool.busy != self._busy:
@@ -439,9 +488,37 @@ class CanvasView(QGraphicsView):
             self.dragFinished.emit()
             self._on_frame()
 
+    def _select_element(self, ev: CanvasEvent) -> bool:
+        """With the select tool, a click on a Geneva drive or rolling lever (no joint or link
+        under it) selects the element (Shift toggles it); True if the click was taken."""
+        if ev.kind != "press" or ev.button != "left" or ev.hit is not None or self.toolbox.name != "select":
+            return False
+        eid = self.element_at(ev.raw, ev.tolerance)
+        if eid is None:
+            return False
+        item = (eid, ELEMENT, eid)
+        sel = list(self.controller.selection) if ev.shift else []
+        sel.remove(item) if item in sel else sel.append(item)
+        self.controller.set_selection(sel)
+        return True
+
     def delete_selected(self) -> bool:
-        """Delete the selected joints and links as one undo command."""
-        return delete_selection(self.ctx, list(self.controller.selection))
+        """Delete the selected joints and links (and whole selected elements) as one undo command."""
+        sel = list(self.controller.selection)
+        whole = [e for e, k, _ in sel if k == ELEMENT and e in self.controller.scene.ids]
+        if not whole:
+            return delete_selection(self.ctx, sel)
+        stack = self.controller.undo_stack
+        stack.beginMacro(f"delete {', '.join(whole)}")
+        try:
+            done = any([self.controller.push(RemoveElement(e, f"delete {e}"), f"delete {e}") for e in whole])
+            rest = [s for s in sel if s[1] != ELEMENT]
+            if rest:
+                done = delete_selection(self.ctx, rest) or done
+        finally:
+            stack.endMacro()
+        self.controller.set_selection([])
+        return done
 
     # -- keys -------------------------------------------------------------------------------------
     def event(self, e: QEvent) -> bool:  # noqa: D401 - Qt API
