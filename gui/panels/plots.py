@@ -2,7 +2,9 @@
 
 Four stacked plots sharing the x axis (input angle, °): position (joint x, y in mm; link angle in °),
 velocity (vx, vy, |v| in mm/s; ω in rad/s), acceleration (ax, ay, |a| in mm/s²; ε in rad/s²) and the
-transmission angle μ (°) of every RRR group. Plots read the controller's precomputed solution;
+transmission angle μ (°) of every RRR group. A selected Geneva drive or rolling lever (or the only
+element of a scene without linkages) brings its own rows, x axis and table, built in
+:mod:`.element_plots`. Plots read the controller's precomputed solution;
 NaN (a pose that cannot be assembled) breaks the line (``connect="finite"``). A vertical cursor
 follows the animation frame, and a click on a plot moves the frame there. The plotted data
 exports as CSV (a core :class:`Table`) and the plots as a PNG.
@@ -13,6 +15,7 @@ import os
 import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Callable
 
 import numpy as np
 import pyqtgraph as pg
@@ -33,12 +36,14 @@ COLORS = ("#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b")
 
 @dataclass
 class Series:
-    """One plotted curve: ``plot`` name, curve ``name``, ``unit`` and (N,) values."""
+    """One plotted curve: ``plot`` name, curve ``name``, ``unit`` and (N,) values; ``x`` its own
+    x values (M,) when it is not sampled at the plot data's x (e.g. α with both sides of a jump)."""
 
     plot: str
     name: str
     unit: str
     y: np.ndarray
+    x: np.ndarray | None = None
 
 
 @dataclass
@@ -50,11 +55,22 @@ class PlotData:
     valid: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
     series: list[Series] = field(default_factory=list)
     labels: dict[str, str] = field(default_factory=dict)   # plot -> y-axis label with unit
+    #: the stacked plots (name, default y label), top to bottom, and the shared x-axis label
+    rows: tuple[tuple[str, str], ...] = PLOTS
+    x_label: str = "input angle (°)"
+    #: x of every animation frame (the cursor; a click goes to the nearest), when not ``x`` itself
+    frame_x: np.ndarray | None = None
+    #: the table "Export plot data as CSV" writes, when not the plotted columns
+    make_table: Callable[[], Table] | None = None
 
     def table(self) -> Table:
         """The plotted data as a table: ``input_deg`` then one column per curve (unit in the name)."""
+        if self.make_table is not None:
+            return self.make_table()
         cols = {"input_deg": self.x}
         for s in self.series:
+            if s.x is not None:
+                continue
             cols[f"{s.name}_{s.unit}".replace("/", "_per_").replace("²", "2").replace("°", "deg")] = s.y
         return Table.from_columns(cols)
 
@@ -79,6 +95,11 @@ def _target(controller: SceneController) -> tuple[Linkage, str, str] | None:
 
 def plot_data(controller: SceneController) -> PlotData:
     """What to plot for the controller's current selection (pure: reads, never writes)."""
+    from .element_plots import element_plot_data   # it builds on PlotData and Series (defined here)
+
+    element = element_plot_data(controller)
+    if element is not None:
+        return element
     target = _target(controller)
     if target is None:
         return PlotData("nothing to plot: the scene has no linkage")
@@ -150,8 +171,30 @@ class PlotsPanel(QWidget):
         self.plots: dict[str, pg.PlotItem] = {}
         self.cursors: dict[str, pg.InfiniteLine] = {}
         self.curves: dict[str, pg.PlotDataItem] = {}
+        self._rows: tuple[tuple[str, str], ...] = ()
+        self._build_rows(PLOTS, "input angle (°)")
+        layout = QVBoxLayout(self)
+        layout.setContentsMargins(2, 2, 2, 2)
+        layout.addLayout(self._header)
+        layout.addWidget(self.graphics, 1)
+        self.data = PlotData("")
+        self._keys: list[tuple[str, str, str]] | None = None
+        self._stale = True
+        controller.solutionsChanged.connect(self._invalidate)
+        controller.selectionChanged.connect(self._invalidate)
+        controller.frameChanged.connect(self._move_cursor)
+        self.graphics.scene().sigMouseClicked.connect(self._clicked)
+        self.refresh()
+
+    def _build_rows(self, rows: tuple[tuple[str, str], ...], x_label: str) -> None:
+        """(Re)make the stacked plots: one per row, sharing the x axis, each with a cursor."""
+        self.graphics.clear()
+        self.plots.clear()
+        self.cursors.clear()
+        self.curves.clear()
+        self._rows = rows
         first = None
-        for row, (name, label) in enumerate(PLOTS):
+        for row, (name, label) in enumerate(rows):
             plot = self.graphics.addPlot(row=row, col=0)
             plot.showGrid(x=True, y=True, alpha=0.25)
             for axis in ("left", "bottom"):  # major ticks only: the minor grid halves the drag frame rate
@@ -166,19 +209,7 @@ class PlotsPanel(QWidget):
             cursor = pg.InfiniteLine(angle=90, movable=False, pen=pg.mkPen("#555", width=1, style=pg.QtCore.Qt.PenStyle.DashLine))
             plot.addItem(cursor, ignoreBounds=True)
             self.plots[name], self.cursors[name] = plot, cursor
-        self.plots["transmission"].setLabel("bottom", "input angle (°)")
-        layout = QVBoxLayout(self)
-        layout.setContentsMargins(2, 2, 2, 2)
-        layout.addLayout(self._header)
-        layout.addWidget(self.graphics, 1)
-        self.data = PlotData("")
-        self._keys: list[tuple[str, str, str]] | None = None
-        self._stale = True
-        controller.solutionsChanged.connect(self._invalidate)
-        controller.selectionChanged.connect(self._invalidate)
-        controller.frameChanged.connect(self._move_cursor)
-        self.graphics.scene().sigMouseClicked.connect(self._clicked)
-        self.refresh()
+        self.plots[rows[-1][0]].setLabel("bottom", x_label)
 
     def add_header_actions(self, actions) -> None:
         """Put buttons for ``actions`` (e.g. Export PNG / CSV) next to the title."""
@@ -204,6 +235,9 @@ class PlotsPanel(QWidget):
         self.data = data = plot_data(self.controller)
         self.title.setText(data.title)
         keys = [(x.plot, x.name, x.unit) for x in data.series]
+        if data.rows != self._rows:  # another kind of element: other stacked plots
+            self._build_rows(data.rows, data.x_label)
+            self._keys = None
         if keys != self._keys:  # other curves: rebuild them (and the legends)
             self._keys = keys
             for plot in self.plots.values():
@@ -215,13 +249,13 @@ class PlotsPanel(QWidget):
                 k = counts.get(s.plot, 0)
                 counts[s.plot] = k + 1
                 self.curves[s.name] = self.plots[s.plot].plot(
-                    data.x, s.y, pen=pg.mkPen(COLORS[k % len(COLORS)], width=1), name=f"{s.name} ({s.unit})",
-                    connect="finite")
+                    data.x if s.x is None else s.x, s.y, pen=pg.mkPen(COLORS[k % len(COLORS)], width=1),
+                    name=f"{s.name} ({s.unit})", connect="finite")
             for name, plot in self.plots.items():
-                plot.setLabel("left", data.labels.get(name, dict(PLOTS)[name]))
+                plot.setLabel("left", data.labels.get(name, dict(data.rows)[name]))
         else:  # same curves, new numbers (a drag): only the data changes
             for s in data.series:
-                self.curves[s.name].setData(data.x, s.y, connect="finite")
+                self.curves[s.name].setData(data.x if s.x is None else s.x, s.y, connect="finite")
         ranges: dict[str, list[np.ndarray]] = {}
         for s in data.series:
             ranges.setdefault(s.plot, []).append(s.y)
@@ -234,7 +268,7 @@ class PlotsPanel(QWidget):
         self._move_cursor(self.controller.frame)
 
     def _move_cursor(self, frame: int) -> None:
-        x = self.data.x
+        x = self.data.x if self.data.frame_x is None else self.data.frame_x
         visible = bool(x.size) and 0 <= frame < x.size
         for cursor in self.cursors.values():
             cursor.setVisible(visible)
@@ -244,6 +278,9 @@ class PlotsPanel(QWidget):
     def frame_at(self, x: float) -> int | None:
         """The assemblable sample whose input angle (°) is nearest ``x``; None if there is none."""
         data = self.data
+        if data.frame_x is not None:
+            fin = np.isfinite(data.frame_x)
+            return int(np.argmin(np.where(fin, np.abs(data.frame_x - x), np.inf))) if fin.any() else None
         if not data.x.size or not data.valid.any():
             return None
         distance = np.where(data.valid, np.abs(data.x - x), np.inf)
@@ -264,8 +301,8 @@ class PlotsPanel(QWidget):
                 return
 
     def cursor_x(self) -> float:
-        """Where the cursor is (input angle, °)."""
-        return float(self.cursors["position"].value())
+        """Where the cursor is (input angle, °; or the element's x)."""
+        return float(next(iter(self.cursors.values())).value())
 
     # -- export ------------------------------------------------------------------------------
     def export_csv(self, path: str | os.PathLike) -> None:
