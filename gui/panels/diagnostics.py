@@ -3,6 +3,8 @@ input ranges, dead points, transmission-angle range, and the solve's time and lo
 
 The text comes from the core's :meth:`Diagnostics.lines` (the same as ``mechsketch analyze``), so
 every number here can be reproduced headless. A linkage that cannot be solved shows its error.
+A Geneva drive shows the summary of ``mechsketch analyze --summary``, a rolling lever that of
+``mechsketch synthesize --summary`` (the results' own summary methods), or the core's message.
 """
 from __future__ import annotations
 
@@ -23,9 +25,7 @@ def diagnostics_lines(controller: SceneController) -> list[tuple[str, str]]:
         return [("", "The scene is empty.")]
     for el in els:
         if not isinstance(el, Linkage):
-            out.append(("head", f"{el.type} {el.id}"))
-            out.append(("", "no diagnostics for this element type in the app yet "
-                            f"(try: mechsketch analyze SCENE --element {el.id})"))
+            out.extend(_element_lines(controller, el))
             continue
         res = controller.result(el.id)
         out.append(("head", f"linkage {el.id}: {len(el.links)} links, {len(el.joints)} joints, "
@@ -37,6 +37,23 @@ def diagnostics_lines(controller: SceneController) -> list[tuple[str, str]]:
         elif res.diagnostics is not None:
             out.extend(("", line) for line in res.diagnostics.lines())
             out.append(("", f"solve + diagnostics in the app: {res.seconds * 1e3:.2f} ms"))
+    return out
+
+
+def _element_lines(controller: SceneController, el) -> list[tuple[str, str]]:
+    """The summary (or the error) of a Geneva drive or rolling lever."""
+    res = controller.element_result(el.id)
+    if res is None:   # a type this version of the app does not solve
+        return [("head", f"{el.type} {el.id}"),
+                ("", f"no diagnostics for this element type in the app yet (try: mechsketch analyze SCENE "
+                     f"--element {el.id})")]
+    kind = {"geneva": "Geneva drive", "rolling_lever": "rolling lever"}.get(el.type, el.type)
+    out = [("head", f"{kind} {el.id}")]
+    if res.error is not None:
+        out.append(("error", res.error))
+    if res.error is None or getattr(res, "kinematics", None) is not None:
+        out.extend(("", line) for line in res.summary().splitlines())
+    out.append(("", f"computed in the app: {res.seconds * 1e3:.1f} ms"))
     return out
 
 
