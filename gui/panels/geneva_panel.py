@@ -1,0 +1,112 @@
+"""The properties of a selected Geneva drive: its authored values, editable, and a few derived sizes.
+
+Fields (units beside them): slots z, centre distance A, roller radius r_p and length l, the three
+clearances, crank speed (rpm, with ω in rad/s) and turning sense, wheel direction, crank centre and
+samples. Each edit is one undo step through :func:`.element_props.push_changes`: a value the core
+refuses (z = 2, a roller too large for the crank, ...) leaves the document as it was and the
+core's message in the status bar. Read-only: crank radius r = A·sin(π/z), the wheel's outer radius
+R_o, slot width and depth, the relief radius drawn, the period.
+"""
+from __future__ import annotations
+
+import math
+
+from PySide6.QtWidgets import QFormLayout, QGroupBox, QLabel
+
+from mechsketch.core.model.geneva import Geneva
+
+from ..element_results import GenevaResult
+from .element_props import combo_field, push_changes, whole_number
+
+#: (field name = JSON key, label, unit, tooltip) of the plain number fields
+NUMBERS = (
+    ("center_distance", "centre distance A", "mm", "crank centre to wheel centre"),
+    ("roller_radius", "roller radius r_p", "mm", ""),
+    ("roller_length", "roller length l", "mm", "contact length of the roller"),
+    ("clearance.slot", "slot clearance", "mm", "per side of the roller"),
+    ("clearance.bottom", "bottom clearance", "mm", "below the deepest roller position"),
+    ("clearance.lock", "lock clearance", "mm", "locking disc to the wheel's locking arcs"),
+    ("wheel_direction_deg", "wheel direction", "°", "direction from the crank centre to the wheel centre"),
+)
+
+
+def _value(el: Geneva, key: str) -> float:
+    node = el.to_dict()
+    for part in key.split("."):
+        node = node[part]
+    return float(node)
+
+
+def geneva_boxes(panel, element_id: str) -> list[QGroupBox]:
+    """The group boxes of one Geneva drive for the properties panel (fields registered on ``panel``)."""
+    ctl = panel.controller
+
+    def el() -> Geneva:
+        return ctl.scene.element(element_id)
+
+    def push(changes: dict, label: str) -> None:
+        push_changes(ctl, element_id, changes, f"{label} of {element_id}")
+
+    box = QGroupBox(f"Geneva drive {element_id}")
+    form = QFormLayout(box)
+
+    def write_slots(v: float) -> None:
+        push({"slots": whole_number(v, "the number of slots")}, "set slots")
+    slots = panel.number_field("slots", lambda: float(el().slots), write_slots)
+    slots.setToolTip("number of slots z (at least 3); the crank radius follows: r = A·sin(π/z)")
+    form.addRow("slots z", panel.row(slots, "—"))
+    for key, label, unit, tip in NUMBERS:
+        edit = panel.number_field(key, lambda key=key: _value(el(), key),
+                                  lambda v, key=key, label=label: push({key: v}, f"set {label}"))
+        edit.setToolTip(tip)
+        form.addRow(label, panel.row(edit, unit))
+    for axis, i in (("x", 0), ("y", 1)):
+        def write_centre(v: float, i: int = i) -> None:
+            c = list(el().crank_center)
+            c[i] = v
+            push({"crank_center": c}, "move crank centre")
+        edit = panel.number_field(f"crank_center.{axis}", lambda i=i: el().crank_center[i], write_centre)
+        form.addRow(f"crank centre {axis}", panel.row(edit, "mm"))
+
+    def write_speed(v: float) -> None:
+        if not v > 0:
+            raise ValueError("the speed must be positive (choose the turning sense below)")
+        push({"speed_rpm": math.copysign(v, el().speed_rpm)}, "set speed")
+    speed = panel.number_field("speed_rpm", lambda: abs(el().speed_rpm), write_speed)
+    form.addRow("crank speed", panel.row(speed, "rpm"))
+    omega = QLabel()
+    panel.add_refresher(lambda: omega.setText(f"ω1 = {abs(el().omega1):.6g} rad/s"))
+    form.addRow("", omega)
+    sense = combo_field(panel, "geneva.sense", [("crank CCW (wheel CW)", 1), ("crank CW (wheel CCW)", -1)],
+                        lambda: 1 if el().speed_rpm > 0 else -1,
+                        lambda s: push({"speed_rpm": s * abs(el().speed_rpm)}, "reverse crank"),
+                        "turning sense of the crank")
+    form.addRow("direction", sense)
+
+    def write_samples(v: float) -> None:
+        push({"samples": whole_number(v, "samples")}, "set samples")
+    samples = panel.number_field("samples", lambda: float(el().samples), write_samples)
+    samples.setToolTip("samples over one crank revolution (the animation's frames)")
+    form.addRow("samples", panel.row(samples, "per turn"))
+
+    derived = QGroupBox("Derived (read-only)")
+    dform = QFormLayout(derived)
+    labels = {k: QLabel() for k in ("r", "Ro", "slot", "relief", "period")}
+    for key, text in (("r", "crank radius r"), ("Ro", "outer radius R_o"), ("slot", "slot width × depth"),
+                      ("relief", "relief radius"), ("period", "period")):
+        labels[key].setWordWrap(True)
+        dform.addRow(text, labels[key])
+
+    def show_derived() -> None:
+        e = el()
+        d = e.dimensions()
+        labels["r"].setText(f"{e.crank_radius:.4f} mm (λ = {e.lam:.4f})")
+        labels["Ro"].setText(f"{d.outer_radius:.4f} mm")
+        labels["slot"].setText(f"{2 * d.w:.4f} × {d.slot_depth:.4f} mm")
+        res = ctl.element_result(element_id)
+        geo = res.geometry if isinstance(res, GenevaResult) else None
+        labels["relief"].setText(f"{geo.relief.drawn:.3f} mm (classical R_o interferes)" if geo is not None
+                                 else "—")
+        labels["period"].setText(f"{60.0 / abs(e.speed_rpm):.4g} s per crank turn")
+    panel.add_refresher(show_derived)
+    return [box, derived]
