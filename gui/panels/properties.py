@@ -2,8 +2,10 @@
 
 Shows, for the linkage of the selection (or the first linkage): the selected joint's coordinates
 (and a prismatic joint's axis), the selected link's lengths, the driver's speed and direction, and
-each Assur group's assembly mode with a Flip button. A selector at the top lets the user pick a
-joint or link without the canvas. The panel holds no model state: it reads ``controller.scene``
+each Assur group's assembly mode with a Flip button. A selected Geneva drive or rolling lever
+(or the only element of a scene without linkages) shows its own fields instead
+(:mod:`.geneva_panel`, :mod:`.rolling_panel`). A selector at the top lets the user pick a
+joint, link or element without the canvas. The panel holds no model state: it reads ``controller.scene``
 and changes it only through ``controller.push``.
 """
 from __future__ import annotations
@@ -20,7 +22,10 @@ from mechsketch.core import MechsketchError, MoveJoint, ReplaceElement
 from mechsketch.core.model.linkage import Driver, JointKind, Linkage
 
 from ..controller import SceneController
+from ..element_results import ELEMENT, element_target
 from .flip import FLIPPABLE, flip_edit
+from .geneva_panel import geneva_boxes
+from .rolling_panel import rolling_boxes
 
 Selection = tuple[str, str, str]
 
@@ -72,6 +77,7 @@ class PropertiesPanel(QWidget):
         #: editable fields by name ("x", "y", "axis", "length:B-C", "speed"), for tests and refresh
         self.fields: dict[str, QLineEdit] = {}
         self.flip_buttons: dict[str, QToolButton] = {}
+        self.combos: dict[str, QComboBox] = {}   # choice boxes of a Geneva drive / rolling lever
         self.direction: QComboBox | None = None
         self._refreshers: list[Callable[[], None]] = []
         self._key: object = None
@@ -105,6 +111,10 @@ class PropertiesPanel(QWidget):
         return None
 
     def _structure_key(self) -> object:
+        eid = element_target(self.controller)
+        if eid is not None:
+            el = self.controller.scene.element(eid)
+            return ("element", eid, el.type, getattr(el, "drive", None) is not None)
         lk = self.linkage()
         if lk is None:
             return ("elements", self.controller.scene.ids)
@@ -130,7 +140,13 @@ class PropertiesPanel(QWidget):
         for lk in self.controller.linkages():
             items += [(f"{lk.id}: joint {j}", (lk.id, "joint", j)) for j in lk.joint_ids]
             items += [(f"{lk.id}: link {k}", (lk.id, "link", k)) for k in lk.link_ids]
+        kinds = {"geneva": "Geneva drive", "rolling_lever": "rolling lever"}
+        solved = self.controller.element_results()
+        items += [(f"{e.id}: {kinds[e.type]}", (e.id, ELEMENT, e.id))
+                  for e in self.controller.scene.elements if e.type in kinds and e.id in solved]
         current = self.selected()
+        if current is None:
+            current = next((s for s in self.controller.selection if s[1] == ELEMENT), None)
         self.selector.blockSignals(True)
         if [self.selector.itemData(i) for i in range(self.selector.count())] != [d for _, d in items]:
             self.selector.clear()
@@ -148,6 +164,7 @@ class PropertiesPanel(QWidget):
     def _rebuild(self) -> None:
         self.fields.clear()
         self.flip_buttons.clear()
+        self.combos.clear()
         self.direction = None
         self._refreshers.clear()
         while self._content_layout.count():
@@ -155,7 +172,12 @@ class PropertiesPanel(QWidget):
             if item.widget() is not None:
                 item.widget().deleteLater()
         lk = self.linkage()
-        if lk is None:
+        eid = element_target(self.controller)
+        if eid is not None:
+            build = geneva_boxes if self.controller.scene.element(eid).type == "geneva" else rolling_boxes
+            for box in build(self, eid):
+                self._content_layout.addWidget(box)
+        elif lk is None:
             self._content_layout.addWidget(self._elements_box())
         else:
             sel = self.selected()
@@ -178,7 +200,7 @@ class PropertiesPanel(QWidget):
         if not els:
             form.addRow(QLabel("The scene is empty: draw a linkage or open an example."))
         for e in els:
-            form.addRow(QLabel(e.id), QLabel(f"{e.type} (no editable properties in this version)"))
+            form.addRow(QLabel(e.id), QLabel(f"{e.type} (pick it above to edit it)"))
         return box
 
     def _field(self, name: str, read: Callable[[], float], write: Callable[[float], None]) -> QLineEdit:
@@ -221,6 +243,18 @@ class PropertiesPanel(QWidget):
         edit.editingFinished.connect(commit)
         self._refreshers.append(update)
         return edit
+
+    def number_field(self, name: str, read: Callable[[], float], write: Callable[[float], None]) -> QLineEdit:
+        """A number field (see :meth:`_field`), for the element panels."""
+        return self._field(name, read, write)
+
+    def add_refresher(self, update: Callable[[], None]) -> None:
+        """Call ``update`` whenever the panel refreshes (until the next rebuild)."""
+        self._refreshers.append(update)
+
+    def row(self, edit: QWidget, unit: str) -> QWidget:
+        """A field with its unit beside it."""
+        return self._row(edit, unit)
 
     @staticmethod
     def _row(edit: QWidget, unit: str) -> QWidget:
