@@ -1,0 +1,177 @@
+"""DXF export of a Geneva drive or a rolling lever off the GUI thread, with progress and Cancel.
+
+:class:`DxfExporter` runs one :class:`ExportTask` at a time on its own ``QThreadPool``. A task
+works in two stages: it first builds what will be drawn (the drive's exact geometry, or the
+lever's synthesis), then - unless Cancel was pressed meanwhile - writes the file with the core's
+exporter (atomic: a temporary file, then a rename). Cancel therefore means "nothing is written"
+whenever it arrives before the write starts; a write already under way finishes (it takes a few
+milliseconds). The element is an immutable record, so the user may keep editing meanwhile.
+
+:class:`ExportStatus` is the status-bar widget: a busy bar, the stage, and a Cancel button.
+Signals of :class:`DxfExporter`: ``started(str)`` (element id), ``progress(str)``,
+``finished(str)`` (the core's report), ``failed(str)`` (the core's message: an unwritable path
+gives ``ExportError``), ``cancelled(str)``; ``busyChanged(bool)``.
+"""
+from __future__ import annotations
+
+import threading
+from pathlib import Path
+
+from PySide6.QtCore import QObject, QRunnable, QThreadPool, Signal
+from PySide6.QtWidgets import QHBoxLayout, QLabel, QProgressBar, QToolButton, QWidget
+
+from mechsketch.core.errors import MechsketchError
+from mechsketch.core.model.geneva import Geneva
+from mechsketch.core.model.rolling_lever import RollingLever
+
+#: the DXF tolerance for freeform profiles (mm), as ``mechsketch export`` uses by default
+DEFAULT_TOLERANCE = 0.001
+EXPORTABLE = (Geneva, RollingLever)
+
+
+class _Signals(QObject):
+    """Signals of one task (made in the GUI thread; emitted from the worker, delivered queued)."""
+
+    progress = Signal(str)
+    finished = Signal(str)
+    failed = Signal(str)
+    cancelled = Signal(str)
+    done = Signal()
+
+
+class ExportTask(QRunnable):
+    """Export ``element`` to ``path`` (DXF, mm); see the module docstring for the two stages."""
+
+    def __init__(self, element, path: str, tolerance: float = DEFAULT_TOLERANCE) -> None:
+        super().__init__()
+        self.setAutoDelete(False)
+        self.element = element
+        self.path = str(path)
+        self.tolerance = tolerance
+        self.signals = _Signals()
+        self._cancel = threading.Event()
+
+    def cancel(self) -> None:
+        """Ask the task to stop before it writes (thread-safe)."""
+        self._cancel.set()
+
+    @property
+    def cancel_requested(self) -> bool:
+        return self._cancel.is_set()
+
+    def run(self) -> None:
+        """Build, check Cancel, write; exactly one of finished/failed/cancelled, then done."""
+        try:
+            self._run()
+        finally:
+            self.signals.done.emit()
+
+    def _run(self) -> None:
+        el = self.element
+        try:
+            if isinstance(el, Geneva):
+                from mechsketch.core.io.dxf_geneva import export_geneva
+
+                self.signals.progress.emit(f"building the exact outline of {el.id}…")
+                el.geometry()
+                if self._stopped():
+                    return
+                self.signals.progress.emit(f"writing {Path(self.path).name}…")
+                report = export_geneva(el, self.path)
+            else:
+                from mechsketch.core.analyses.rolling_synthesis import synthesize
+                from mechsketch.core.io.dxf_rolling import export_rolling
+
+                self.signals.progress.emit(f"synthesising the profiles of {el.id}…")
+                res = synthesize(el, measures=False)
+                if self._stopped():
+                    return
+                self.signals.progress.emit(f"fitting arcs and writing {Path(self.path).name}…")
+                report = export_rolling(res, self.path, self.tolerance).report()
+        except (MechsketchError, OSError, ValueError) as exc:
+            self.signals.failed.emit(str(exc))
+            return
+        self.signals.finished.emit(report)
+
+    def _stopped(self) -> bool:
+        if self._cancel.is_set():
+            self.signals.cancelled.emit(f"export of {self.element.id} cancelled: nothing was written")
+            return True
+        return False
+
+
+class DxfExporter(QObject):
+    """Runs export tasks one at a time off the GUI thread (see the module docstring)."""
+
+    started = Signal(str)
+    progress = Signal(str)
+    finished = Signal(str)
+    failed = Signal(str)
+    cancelled = Signal(str)
+    busyChanged = Signal(bool)
+
+    def __init__(self, parent: QObject | None = None) -> None:
+        super().__init__(parent)
+        self.pool = QThreadPool(self)
+        self.pool.setMaxThreadCount(1)
+        self.task: ExportTask | None = None
+
+    @property
+    def busy(self) -> bool:
+        return self.task is not None
+
+    def start(self, element, path: str, tolerance: float = DEFAULT_TOLERANCE) -> bool:
+        """Start exporting ``element`` to ``path``; False (nothing started) if one is running."""
+        if self.task is not None:
+            return False
+        task = ExportTask(element, path, tolerance)
+        for name in ("progress", "finished", "failed", "cancelled"):
+            getattr(task.signals, name).connect(getattr(self, name))
+        task.signals.done.connect(self._done)
+        self.task = task
+        self.busyChanged.emit(True)
+        self.started.emit(element.id)
+        self.pool.start(task)
+        return True
+
+    def cancel(self) -> None:
+        """Stop the running export before it writes (if it has not started writing)."""
+        if self.task is not None:
+            self.task.cancel()
+            self.progress.emit("cancelling…")
+
+    def wait(self, msecs: int = 10000) -> bool:
+        """Block until the running task ends (closing the window, tests); True if it did."""
+        return self.pool.waitForDone(msecs)
+
+    def _done(self) -> None:
+        self.task = None
+        self.busyChanged.emit(False)
+
+
+class ExportStatus(QWidget):
+    """A status-bar widget shown while an export runs: busy bar, stage text, Cancel."""
+
+    def __init__(self, exporter: DxfExporter, parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        lay = QHBoxLayout(self)
+        lay.setContentsMargins(0, 0, 0, 0)
+        self.label = QLabel()
+        self.bar = QProgressBar()
+        self.bar.setRange(0, 0)          # busy: the stages have no measurable fraction
+        self.bar.setMaximumWidth(90)
+        self.bar.setMaximumHeight(14)
+        self.cancel_button = QToolButton()
+        self.cancel_button.setText("Cancel")
+        self.cancel_button.setObjectName("cancelExport")
+        self.cancel_button.clicked.connect(exporter.cancel)
+        for w in (self.label, self.bar, self.cancel_button):
+            lay.addWidget(w)
+        exporter.progress.connect(self.label.setText)
+        exporter.busyChanged.connect(self.setVisible)
+        self.setVisible(False)
+
+
+def exportable(element) -> bool:
+    """True for the element types the app exports as DXF (Geneva drives, rolling levers)."""
+    return isinstance(element, EXPORTABLE)
