@@ -22,6 +22,8 @@ from mechsketch.core import ExportError
 from .autosave import Autosave
 from .controller import SceneController
 from .dialogs import DialogService
+from .element_results import ELEMENT, GenevaResult, map_frame
+from .export_worker import DxfExporter, ExportStatus, exportable
 from .file_ops import FileOps
 from .panels.diagnostics import DiagnosticsPanel
 from .panels.plots import PlotsPanel
@@ -100,6 +102,9 @@ class MainWindow(QMainWindow):
         self._make_toolbar()
         self.frame_label = QLabel()
         self.solve_label = QLabel()
+        self.exporter = DxfExporter(self)
+        self.export_status = ExportStatus(self.exporter)
+        self.statusBar().addPermanentWidget(self.export_status)
         self.statusBar().addPermanentWidget(self.cursor_label)
         self.statusBar().addPermanentWidget(self.solve_label)
         self.statusBar().addPermanentWidget(self.frame_label)
@@ -112,6 +117,9 @@ class MainWindow(QMainWindow):
         controller.solutionsChanged.connect(self._update_status)
         controller.frameChanged.connect(self._update_frame)
         file_ops.recentChanged.connect(self._fill_recent)
+        self.exporter.finished.connect(self._export_finished)
+        self.exporter.failed.connect(self._export_failed)
+        self.exporter.cancelled.connect(self.show_message)
         self.plots.add_header_actions([self.actions["export_png"], self.actions["export_csv"]])
         self.update_title()
         self._update_status()
@@ -146,6 +154,8 @@ class MainWindow(QMainWindow):
         self._action("export_png", "Export plots as &PNG…", self.export_plot_png, tip="Save the plots as an image")
         self._action("export_csv", "Export plot &data as CSV…", self.export_plot_csv,
                      tip="Save the plotted numbers as CSV")
+        self._action("export_dxf", "Export &DXF…", self.export_dxf, "Ctrl+E",
+                     "Write the selected Geneva drive or rolling lever as a DXF drawing (mm)")
         self._action("quit", "&Quit", self.close, K.Quit)
         undo = self.controller.undo_stack.createUndoAction(self, "&Undo")
         undo.setShortcut(QKeySequence(K.Undo))
@@ -170,7 +180,7 @@ class MainWindow(QMainWindow):
         file_menu.addMenu(self.recent_menu)
         file_menu.addActions([a["save"], a["save_as"]])
         file_menu.addSeparator()
-        file_menu.addActions([a["export_png"], a["export_csv"]])
+        file_menu.addActions([a["export_dxf"], a["export_png"], a["export_csv"]])
         file_menu.addSeparator()
         file_menu.addAction(a["quit"])
         self._fill_recent()
@@ -242,6 +252,9 @@ class MainWindow(QMainWindow):
                 parts.append(f"{eid}: not solved")
             elif res.solution is not None:
                 parts.append(f"{eid}: {len(res.solution):,} poses, {res.seconds * 1e3:.1f} ms")
+        for eid, er in self.controller.element_results().items():
+            parts.append(f"{eid}: not drawn" if er.n_frames == 0 else
+                         f"{eid}: {er.n_frames:,} frames, {er.seconds * 1e3:.1f} ms")
         self.solve_label.setText("; ".join(parts))
         self._update_frame()
 
@@ -254,6 +267,14 @@ class MainWindow(QMainWindow):
             if res.solution is not None and frame < len(res.solution):
                 deg = math.degrees(res.solution.input[frame]) % 360.0
                 self.frame_label.setText(f"input {deg:.1f}° (frame {frame + 1}/{len(res.solution)})")
+                return
+        total = self.controller.sample_count()
+        for er in self.controller.element_results().values():
+            if er.n_frames:
+                k = map_frame(frame, total, er.n_frames)
+                what = (f"crank φ {math.degrees(er.kinematics.phi[k]):.1f}°" if isinstance(er, GenevaResult)
+                        else f"lever θ {math.degrees(er.frames.theta[k]):.2f}°")
+                self.frame_label.setText(f"{er.element_id}: {what} (frame {frame + 1}/{total})")
                 return
         self.frame_label.setText("")
 
@@ -277,6 +298,43 @@ class MainWindow(QMainWindow):
 
     def export_plot_csv(self) -> bool:
         return self._export("Export plot data as CSV", ".csv", "CSV files (*.csv)", self.plots.export_csv)
+
+    def export_target(self):
+        """The Geneva drive or rolling lever to export: the selected one, else the only one."""
+        scene = self.controller.scene
+        for eid, kind, _ in self.controller.selection:
+            if kind == ELEMENT and eid in scene.ids and exportable(scene.element(eid)):
+                return scene.element(eid)
+        candidates = [e for e in scene.elements if exportable(e)]
+        return candidates[0] if len(candidates) == 1 else None
+
+    def export_dxf(self) -> bool:
+        """Ask for a file and export the target element as DXF off the GUI thread (True: started)."""
+        if self.exporter.busy:
+            self.show_message("an export is running: wait for it or cancel it")
+            return False
+        el = self.export_target()
+        if el is None:
+            many = sum(exportable(e) for e in self.controller.scene.elements) > 1
+            self.show_message("select the Geneva drive or rolling lever to export (click it on the canvas)"
+                              if many else "nothing to export: DXF export is for Geneva drives and rolling levers")
+            return False
+        folder = self.controller.path.parent if self.controller.path else Path.home()
+        name = self.dialogs.save_file_name(f"Export {el.id} as DXF", str(folder / f"{el.id}.dxf"),
+                                           "DXF drawings (*.dxf)")
+        if not name:
+            return False
+        target = Path(name) if Path(name).suffix else Path(name).with_suffix(".dxf")
+        self.show_message(f"exporting {el.id} to {target}…")
+        return self.exporter.start(el, str(target))
+
+    def _export_finished(self, report: str) -> None:
+        self.show_message(report.splitlines()[0] if report else "exported")
+        self.dialogs.info("DXF exported", report)
+
+    def _export_failed(self, message: str) -> None:
+        self.show_message(message)
+        self.dialogs.error("Export DXF", f"{message}\n\nThe scene is not affected.")
 
     def about(self) -> None:
         from importlib.metadata import PackageNotFoundError, version
@@ -324,6 +382,8 @@ class MainWindow(QMainWindow):
             event.ignore()
             return
         self.save_layout()
+        self.exporter.cancel()
+        self.exporter.wait()
         if self.parts.stop is not None:
             self.parts.stop()
         self.autosave.clean_exit()
