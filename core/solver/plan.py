@@ -13,6 +13,7 @@ from typing import Callable, Iterable
 
 import numpy as np
 
+from ..errors import GeometryError
 from ..model.linkage import JointKind, Linkage
 from . import kernels as K
 from .structure import Group, decompose, mobility
@@ -216,8 +217,22 @@ def _compile_step(linkage: Linkage, g: Group) -> Step:
     return Step(g, (ki, kj), run, max(scale, 1e-300))
 
 
+def _check_lengths(linkage: Linkage) -> None:
+    """Two revolute joints of one link at the same drawn point leave it no length to solve with."""
+    for lk in linkage.links:
+        pts = [(j, _c(linkage.joint(j).at)) for j in lk.joints if linkage.joint(j).kind is JointKind.R]
+        span = max((abs(p - q) for _, p in pts for _, q in pts), default=0.0)
+        for a in range(len(pts)):
+            for b in range(a + 1, len(pts)):
+                if abs(pts[a][1] - pts[b][1]) <= 1e-9 * max(span, 1.0):
+                    raise GeometryError(f"link {lk.id!r}: joints {pts[a][0]!r} and {pts[b][0]!r} are at the "
+                                        f"same point ({pts[a][1].real:g}, {pts[a][1].imag:g}) mm")
+
+
 def compile_plan(linkage: Linkage) -> Plan:
-    """Decompose ``linkage`` (raises StructureError) and compile its kernels, once."""
+    """Decompose ``linkage`` (raises StructureError, or GeometryError for a link with two joints
+    at one point) and compile its kernels, once."""
+    _check_lengths(linkage)
     groups = decompose(linkage)
     steps = [_compile_step(linkage, g) for g in groups]
     drv = linkage.driver

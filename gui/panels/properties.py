@@ -23,7 +23,7 @@ from mechsketch.core.model.linkage import Driver, JointKind, Linkage
 
 from ..controller import SceneController
 from ..element_results import ELEMENT, element_target
-from .flip import FLIPPABLE, flip_edit
+from mechsketch.core.solver.flip import FLIPPABLE, flip_edit
 from .geneva_panel import geneva_boxes
 from .rolling_panel import rolling_boxes
 

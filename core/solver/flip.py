@@ -10,7 +10,7 @@ The drawn pose decides each group's assembly mode, so flipping a mode means redr
 
 Groups solved later are then re-assembled on the new pose with their lengths and modes kept, by
 running the linkage's own compiled steps once at the drawn driver angle. PRP and RPP groups have no
-assembly mode. Candidate for core (it imports nothing from Qt or the GUI).
+assembly mode.
 """
 from __future__ import annotations
 
@@ -19,11 +19,11 @@ from dataclasses import replace
 
 import numpy as np
 
-from mechsketch.core.errors import GeometryError
-from mechsketch.core.model.edits import ReplaceElement
-from mechsketch.core.model.linkage import JointKind, Linkage
-from mechsketch.core.solver import kernels as K
-from mechsketch.core.solver.plan import Plan
+from ..errors import GeometryError
+from ..model.edits import ReplaceElement
+from ..model.linkage import JointKind, Linkage
+from . import kernels as K
+from .plan import Plan
 
 #: kinds whose assembly mode can be flipped
 FLIPPABLE = ("RRR", "RRP", "RPR")
@@ -98,7 +98,7 @@ def flip_group(linkage: Linkage, group: str) -> Linkage:
     moved: set[str] = set()   # links whose pose the flip changes
     with np.errstate(invalid="ignore", divide="ignore"):
         for k, step in enumerate(plan.steps):
-            out = step.run(states, 0)
+            out = step.run(states, 0, None)  # the drawn pose: no branch point crossed
             g = step.group
             states[g.link_i], states[g.link_j] = out.state_i, out.state_j
             if k == index:
