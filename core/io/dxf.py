@@ -5,13 +5,11 @@ Part-specific writers (Geneva wheel, rolling-lever profiles) build on these help
 from __future__ import annotations
 
 import os
-import tempfile
-from pathlib import Path
 
 import ezdxf
 from ezdxf import units
 
-from ..errors import ExportError
+from .atomic import atomic_write
 
 DXF_VERSION = "R2010"
 
@@ -33,22 +31,4 @@ def new_document(layers: dict[str, int] | None = None):
 
 def save_document(doc, path: str | os.PathLike) -> None:
     """Save atomically (temporary file, then rename); :class:`ExportError` names the path."""
-    target = Path(path)
-    folder = target.parent if str(target.parent) else Path(".")
-    if not folder.is_dir():
-        raise ExportError(f"cannot write {target}: folder {folder} does not exist")
-    tmp = None
-    try:
-        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=folder)
-        os.close(fd)
-        doc.saveas(tmp)
-        os.replace(tmp, target)
-        tmp = None
-    except OSError as exc:
-        raise ExportError(f"cannot write {target}: {exc.strerror or exc}") from None
-    finally:
-        if tmp is not None:
-            try:
-                os.unlink(tmp)
-            except OSError:
-                pass
+    atomic_write(path, doc.saveas)

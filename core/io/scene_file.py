@@ -9,13 +9,13 @@ import json
 import math
 import os
 import sys
-import tempfile
 from pathlib import Path
 from typing import Any, Callable
 
 import jsonschema
 
-from ..errors import ExportError, Problem, SceneFormatError
+from ..errors import Problem, SceneFormatError
+from .atomic import atomic_write_text  # noqa: F401  (re-exported: others import it from here)
 from ..model.scene import FORMAT, SCHEMA_VERSION, Scene, element_module
 
 #: files larger than this are refused before reading (bytes)
@@ -217,32 +217,6 @@ def loads_scene(text: str, source: str = "scene") -> Scene:
 def dumps_scene(scene: Scene) -> str:
     """The scene as JSON text (authored data only; nothing derived)."""
     return json.dumps(scene.to_dict(), indent=2, allow_nan=False) + "\n"
-
-
-def atomic_write_text(path: str | os.PathLike, text: str) -> None:
-    """Write ``text`` to ``path`` atomically: a temporary file in the same folder, then rename.
-
-    Raises :class:`ExportError` naming the path if it cannot be written; the old file is intact.
-    """
-    target = Path(path)
-    folder = target.parent if str(target.parent) else Path(".")
-    tmp_name = None
-    try:
-        fd, tmp_name = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=folder)
-        with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as fh:
-            fh.write(text)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp_name, target)
-        tmp_name = None
-    except OSError as exc:
-        raise ExportError(f"cannot write {target}: {exc.strerror or exc}") from None
-    finally:
-        if tmp_name is not None:
-            try:
-                os.unlink(tmp_name)
-            except OSError:
-                pass
 
 
 def save_scene(scene: Scene, path: str | os.PathLike) -> None:

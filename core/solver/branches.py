@@ -33,11 +33,12 @@ GOLDEN_STEPS = 80
 TWO_PI = 2.0 * math.pi
 
 
-def _golden(f, a: float, b: float) -> tuple[float, float]:
+def golden_min(f, a: float, b: float, steps: int = GOLDEN_STEPS) -> tuple[float, float]:
+    """Golden-section search for the minimum of a unimodal ``f`` on [a, b]: (x, f(x))."""
     g = (math.sqrt(5.0) - 1.0) / 2.0
     c, d = b - g * (b - a), a + g * (b - a)
     fc, fd = f(c), f(d)
-    for _ in range(GOLDEN_STEPS):
+    for _ in range(steps):
         if fc < fd:
             b, d, fd = d, c, fc
             c = b - g * (b - a)
@@ -80,7 +81,7 @@ def find_branch_points(plan: "Plan", steps, known: dict[str, np.ndarray]) -> dic
 
         found: list[float] = []
         for c in cand:
-            d, f = _golden(margin, delta[c] - step_h, delta[c] + step_h)
+            d, f = golden_min(margin, delta[c] - step_h, delta[c] + step_h)
             d %= TWO_PI
             if f <= thr and 1e-9 < d < TWO_PI - 1e-9 and all(abs(d - e) > 1e-7 for e in found):
                 found.append(d)

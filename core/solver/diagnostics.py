@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .branches import golden_min
 from .plan import TOGGLE_COND, Plan, Solution
 
 BISECT_STEPS = 48
@@ -87,26 +88,12 @@ def _bisect_valid(plan: Plan, a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def _golden_min(plan: Plan, group: str, a: float, b: float) -> tuple[float, float]:
-    g = (math.sqrt(5.0) - 1.0) / 2.0
-
+    """Input in [a, b] where ``group``'s conditioning is least, and that conditioning."""
     def f(x: float) -> float:
-        sol = plan.evaluate(np.array([x]), order=0)
-        c = sol.conditioning(group)[0]
+        c = plan.evaluate(np.array([x]), order=0).conditioning(group)[0]
         return float(c) if np.isfinite(c) else 0.0
 
-    c, d = b - g * (b - a), a + g * (b - a)
-    fc, fd = f(c), f(d)
-    for _ in range(GOLDEN_STEPS):
-        if fc < fd:
-            b, d, fd = d, c, fc
-            c = b - g * (b - a)
-            fc = f(c)
-        else:
-            a, c, fc = c, d, fd
-            d = a + g * (b - a)
-            fd = f(d)
-    x = 0.5 * (a + b)
-    return x, f(x)
+    return golden_min(f, a, b, GOLDEN_STEPS)
 
 
 def diagnose(sol: Solution) -> Diagnostics:
