@@ -164,6 +164,7 @@ class PlotsPanel(QWidget):
         self.controller = controller
         self.title = QLabel()
         self.title.setObjectName("plotTitle")
+        self.title.setWordWrap(True)   # a long title wraps rather than widening the dock
         self._header = QHBoxLayout()
         self._header.addWidget(self.title, 1)
         self.graphics = pg.GraphicsLayoutWidget()
@@ -199,6 +200,8 @@ class PlotsPanel(QWidget):
             plot.showGrid(x=True, y=True, alpha=0.25)
             for axis in ("left", "bottom"):  # major ticks only: the minor grid halves the drag frame rate
                 plot.getAxis(axis).setStyle(maxTickLevel=0)
+            if rows != PLOTS:  # an element's rows carry their unit in the label: no "(x0.001)" rescaling
+                plot.getAxis("left").enableAutoSIPrefix(False)
             plot.setLabel("left", label)
             plot.addLegend(offset=(-10, 5), labelTextSize="8pt", brush=pg.mkBrush(255, 255, 255, 210),
                            pen=pg.mkPen("#ccc"))
