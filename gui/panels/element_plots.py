@@ -47,13 +47,12 @@ def geneva_plot_data(controller: SceneController, res: GenevaResult) -> PlotData
         return PlotData(f"geneva {el.id}: {res.error}", rows=GENEVA_ROWS, x_label="crank angle φ (°)")
     x = np.degrees(kin.phi)
     phi_j, alpha_j = kin.alpha_with_jumps()
-    data = PlotData(f"Geneva {el.id}: z = {el.slots}, {abs(el.speed_rpm):g} rpm; α steps by "
-                    f"{kin.jump:.4g} rad/s² at entry and exit", x, np.ones(len(x), dtype=bool),
+    data = PlotData(f"Geneva {el.id}", x, np.ones(len(x), dtype=bool),
                     rows=GENEVA_ROWS, x_label="crank angle φ (°, from the line of centres)")
     data.series += [
         Series("angle", "wheel.angle", "°", np.degrees(kin.wheel_angle)),
         Series("omega", "wheel.ω", "rad/s", kin.omega),
-        Series("alpha", "wheel.α", "rad/s²", alpha_j, np.degrees(phi_j)),
+        Series("alpha", "wheel.α", "rad/s²", alpha_j, np.degrees(phi_j)),   # steps by kin.jump at ±φ0
         Series("jerk", "wheel.jerk", "rad/s³", kin.jerk),
         Series("force", f"Rn ({con.model.normal_force})", "N", con.Rn),
         Series("force", "Rn (paper eq. 3)", "N", con.Rn_paper),
@@ -78,7 +77,7 @@ def rolling_plot_data(controller: SceneController, res: RollingResult) -> PlotDa
     if syn is None or res.frames is None:
         return PlotData(f"rolling lever {el.id}: {res.error}", rows=ROLLING_ROWS, x_label="lever rotation θ (°)")
     x = np.degrees(syn.theta)
-    data = PlotData(f"rolling lever {el.id}: method {syn.method}, N = {syn.points}", x,
+    data = PlotData(f"lever {el.id} ({syn.method})", x,
                     np.ones(len(x), dtype=bool), rows=ROLLING_ROWS, x_label="lever rotation θ (°)")
     data.series += [
         Series("alpha", "α", "°", np.degrees(syn.alpha)),

@@ -18,15 +18,16 @@ from mechsketch.core.model.geneva import Geneva
 from ..element_results import GenevaResult
 from .element_props import combo_field, push_changes, whole_number
 
-#: (field name = JSON key, label, unit, tooltip) of the plain number fields
-NUMBERS = (
-    ("center_distance", "centre distance A", "mm", "crank centre to wheel centre"),
-    ("roller_radius", "roller radius r_p", "mm", ""),
-    ("roller_length", "roller length l", "mm", "contact length of the roller"),
-    ("clearance.slot", "slot clearance", "mm", "per side of the roller"),
-    ("clearance.bottom", "bottom clearance", "mm", "below the deepest roller position"),
-    ("clearance.lock", "lock clearance", "mm", "locking disc to the wheel's locking arcs"),
-    ("wheel_direction_deg", "wheel direction", "°", "direction from the crank centre to the wheel centre"),
+#: (field name = JSON key, label, unit, tooltip) of the plain number fields, by group
+SIZES = (
+    ("center_distance", "distance A", "mm", "centre distance: crank centre to wheel centre"),
+    ("roller_radius", "roller r_p", "mm", "roller radius"),
+    ("roller_length", "roller l", "mm", "contact length of the roller"),
+)
+CLEARANCES = (
+    ("clearance.slot", "slot", "mm", "per side of the roller"),
+    ("clearance.bottom", "bottom", "mm", "below the deepest roller position"),
+    ("clearance.lock", "lock", "mm", "locking disc to the wheel's locking arcs"),
 )
 
 
@@ -47,6 +48,13 @@ def geneva_boxes(panel, element_id: str) -> list[QGroupBox]:
     def push(changes: dict, label: str) -> None:
         push_changes(ctl, element_id, changes, f"{label} of {element_id}")
 
+    def numbers(form: QFormLayout, specs: tuple) -> None:
+        for key, label, unit, tip in specs:
+            edit = panel.number_field(key, lambda key=key: _value(el(), key),
+                                      lambda v, key=key, label=label: push({key: v}, f"set {label}"))
+            edit.setToolTip(tip)
+            form.addRow(label, panel.row(edit, unit))
+
     box = QGroupBox(f"Geneva drive {element_id}")
     form = QFormLayout(box)
 
@@ -55,45 +63,51 @@ def geneva_boxes(panel, element_id: str) -> list[QGroupBox]:
     slots = panel.number_field("slots", lambda: float(el().slots), write_slots)
     slots.setToolTip("number of slots z (at least 3); the crank radius follows: r = A·sin(π/z)")
     form.addRow("slots z", panel.row(slots, "—"))
-    for key, label, unit, tip in NUMBERS:
-        edit = panel.number_field(key, lambda key=key: _value(el(), key),
-                                  lambda v, key=key, label=label: push({key: v}, f"set {label}"))
-        edit.setToolTip(tip)
-        form.addRow(label, panel.row(edit, unit))
-    for axis, i in (("x", 0), ("y", 1)):
-        def write_centre(v: float, i: int = i) -> None:
-            c = list(el().crank_center)
-            c[i] = v
-            push({"crank_center": c}, "move crank centre")
-        edit = panel.number_field(f"crank_center.{axis}", lambda i=i: el().crank_center[i], write_centre)
-        form.addRow(f"crank centre {axis}", panel.row(edit, "mm"))
+    numbers(form, SIZES)
 
     def write_speed(v: float) -> None:
         if not v > 0:
             raise ValueError("the speed must be positive (choose the turning sense below)")
         push({"speed_rpm": math.copysign(v, el().speed_rpm)}, "set speed")
     speed = panel.number_field("speed_rpm", lambda: abs(el().speed_rpm), write_speed)
-    form.addRow("crank speed", panel.row(speed, "rpm"))
+    speed.setToolTip("crank speed")
+    form.addRow("speed", panel.row(speed, "rpm"))
     omega = QLabel()
     panel.add_refresher(lambda: omega.setText(f"ω1 = {abs(el().omega1):.6g} rad/s"))
     form.addRow("", omega)
-    sense = combo_field(panel, "geneva.sense", [("crank CCW (wheel CW)", 1), ("crank CW (wheel CCW)", -1)],
+    sense = combo_field(panel, "geneva.sense", [("CCW", 1), ("CW", -1)],
                         lambda: 1 if el().speed_rpm > 0 else -1,
                         lambda s: push({"speed_rpm": s * abs(el().speed_rpm)}, "reverse crank"),
-                        "turning sense of the crank")
+                        "turning sense of the crank: counter-clockwise (CCW) or clockwise (CW); "
+                        "the wheel turns the other way")
     form.addRow("direction", sense)
 
     def write_samples(v: float) -> None:
         push({"samples": whole_number(v, "samples")}, "set samples")
     samples = panel.number_field("samples", lambda: float(el().samples), write_samples)
     samples.setToolTip("samples over one crank revolution (the animation's frames)")
-    form.addRow("samples", panel.row(samples, "per turn"))
+    form.addRow("samples", panel.row(samples, "/ turn"))
+
+    clearances = QGroupBox("Clearances")
+    numbers(QFormLayout(clearances), CLEARANCES)
+
+    placement = QGroupBox("Placement")
+    pform = QFormLayout(placement)
+    for axis, i in (("x", 0), ("y", 1)):
+        def write_centre(v: float, i: int = i) -> None:
+            c = list(el().crank_center)
+            c[i] = v
+            push({"crank_center": c}, "move crank centre")
+        edit = panel.number_field(f"crank_center.{axis}", lambda i=i: el().crank_center[i], write_centre)
+        edit.setToolTip(f"{axis} of the crank centre")
+        pform.addRow(f"crank {axis}", panel.row(edit, "mm"))
+    numbers(pform, (("wheel_direction_deg", "wheel at", "°", "direction from the crank centre to the wheel centre"),))
 
     derived = QGroupBox("Derived (read-only)")
     dform = QFormLayout(derived)
     labels = {k: QLabel() for k in ("r", "Ro", "slot", "relief", "period")}
-    for key, text in (("r", "crank radius r"), ("Ro", "outer radius R_o"), ("slot", "slot width × depth"),
-                      ("relief", "relief radius"), ("period", "period")):
+    for key, text in (("r", "crank r"), ("Ro", "outer R_o"), ("slot", "slot w × d"),
+                      ("relief", "relief"), ("period", "period")):
         labels[key].setWordWrap(True)
         dform.addRow(text, labels[key])
 
@@ -105,8 +119,8 @@ def geneva_boxes(panel, element_id: str) -> list[QGroupBox]:
         labels["slot"].setText(f"{2 * d.w:.4f} × {d.slot_depth:.4f} mm")
         res = ctl.element_result(element_id)
         geo = res.geometry if isinstance(res, GenevaResult) else None
-        labels["relief"].setText(f"{geo.relief.drawn:.3f} mm (classical R_o interferes)" if geo is not None
+        labels["relief"].setText(f"{geo.relief.drawn:.3f} mm (the classical R_o interferes)" if geo is not None
                                  else "—")
-        labels["period"].setText(f"{60.0 / abs(e.speed_rpm):.4g} s per crank turn")
+        labels["period"].setText(f"{60.0 / abs(e.speed_rpm):.4g} s / crank turn")
     panel.add_refresher(show_derived)
-    return [box, derived]
+    return [box, clearances, placement, derived]

@@ -39,49 +39,55 @@ def rolling_boxes(panel, element_id: str) -> list[QGroupBox]:
     def push(changes: dict, label: str) -> None:
         push_changes(ctl, element_id, changes, f"{label} of {element_id}")
 
-    def number(form: QFormLayout, key: str, label: str, unit: str, tip: str = "") -> None:
-        """A field for a number (``key`` may name a list item: ``pin.0``)."""
+    def number(form: QFormLayout, key: str, label: str, unit: str, what: str, tip: str = "") -> None:
+        """A field for a number (``key`` may name a list item: ``pin.0``); ``what`` names the undo step."""
         def write(v: float) -> None:
             head, _, tail = key.rpartition(".")
             if tail.isdigit():   # one coordinate of a point: write the whole point
                 point = list(_get(el(), head))
                 point[int(tail)] = v
-                push({head: point}, f"set {label}")
+                push({head: point}, f"set {what}")
             else:
-                push({key: v}, f"set {label}")
+                push({key: v}, f"set {what}")
         edit = panel.number_field(key, lambda: float(_get(el(), key)), write)
-        edit.setToolTip(tip)
+        edit.setToolTip(tip or what)
         form.addRow(label, panel.row(edit, unit))
 
-    lever = QGroupBox(f"Rolling lever {element_id}: lever (drawn pose)")
+    lever = QGroupBox(f"Rolling lever {element_id}: lever circle")
     form = QFormLayout(lever)
-    number(form, "lever_circle.center.0", "lever circle x", "mm", "centre of the circle rolling on the frame profile")
-    number(form, "lever_circle.center.1", "lever circle y", "mm")
-    number(form, "lever_circle.radius", "lever circle R1", "mm")
+    number(form, "lever_circle.center.0", "centre x", "mm", "lever circle centre",
+           "centre of the lever's circle rolling on the frame profile (drawn pose)")
+    number(form, "lever_circle.center.1", "centre y", "mm", "lever circle centre")
+    number(form, "lever_circle.radius", "radius R1", "mm", "lever circle radius")
     form.addRow("contact", combo_field(
-        panel, "contact_branch", [("near intersection", "near"), ("far intersection", "far")],
+        panel, "contact_branch", [("near", "near"), ("far", "far")],
         lambda: el().contact_branch, lambda v: push({"contact_branch": v}, "set contact branch"),
         "which intersection of the rocker line with the lever circle is the contact"))
-    number(form, "pin.0", "pin f x", "mm", "the rocker's pin on the lever")
-    number(form, "pin.1", "pin f y", "mm")
-    number(form, "rocker_pivot.0", "rocker pivot G x", "mm", "the rocker's ground pivot")
-    number(form, "rocker_pivot.1", "rocker pivot G y", "mm")
 
-    slider = QGroupBox("Slider")
+    rocker = QGroupBox("Rocker")
+    rform = QFormLayout(rocker)
+    number(rform, "pin.0", "pin f x", "mm", "pin", "the rocker's pin on the lever (drawn pose)")
+    number(rform, "pin.1", "pin f y", "mm", "pin")
+    number(rform, "rocker_pivot.0", "pivot G x", "mm", "rocker pivot", "the rocker's ground pivot")
+    number(rform, "rocker_pivot.1", "pivot G y", "mm", "rocker pivot")
+
+    slider = QGroupBox("Slider circle and axis")
     sform = QFormLayout(slider)
-    number(sform, "slider_circle.center.0", "slider circle x", "mm", "centre of the circle rolling on the slider")
-    number(sform, "slider_circle.center.1", "slider circle y", "mm")
-    number(sform, "slider_circle.radius", "slider circle R2", "mm")
-    number(sform, "slider_axis_deg", "slider axis", "°", "direction of the slider's motion")
+    number(sform, "slider_circle.center.0", "centre x", "mm", "slider circle centre",
+           "centre of the lever's circle rolling on the slider profile (drawn pose)")
+    number(sform, "slider_circle.center.1", "centre y", "mm", "slider circle centre")
+    number(sform, "slider_circle.radius", "radius R2", "mm", "slider circle radius")
+    number(sform, "slider_axis_deg", "axis", "°", "slider axis", "direction of the slider's motion")
     sform.addRow("side", combo_field(
-        panel, "slider_side", [("+1 (left of the axis)", 1), ("−1 (right of the axis)", -1)],
+        panel, "slider_side", [("+1", 1), ("−1", -1)],
         lambda: el().slider_side, lambda v: push({"slider_side": v}, "set slider side"),
-        "which intersection of the normal to the slider axis with the slider circle is the contact"))
+        "which intersection of the normal to the slider axis with the slider circle is the contact: "
+        "+1 on the side of the axis turned by +90°, −1 by −90°"))
 
     stroke = QGroupBox("Stroke and synthesis")
     tform = QFormLayout(stroke)
-    number(tform, "stroke.from", "stroke from θ", "rad", "lever rotation at the start (0 = drawn pose)")
-    number(tform, "stroke.to", "stroke to θ", "rad", "lever rotation at the end; must stay in the working range")
+    number(tform, "stroke.from", "from θ", "rad", "stroke start", "lever rotation at the start (0 = drawn pose)")
+    number(tform, "stroke.to", "to θ", "rad", "stroke end", "lever rotation at the end; it must stay in the working range")
     tform.addRow("method", combo_field(
         panel, "method", [(m, m) for m in METHODS], lambda: el().method,
         lambda v: push({"method": v}, "set method"),
@@ -92,23 +98,24 @@ def rolling_boxes(panel, element_id: str) -> list[QGroupBox]:
         push({"points": whole_number(v, "points")}, "set points")
     points = panel.number_field("points", lambda: float(el().points), write_points)
     points.setToolTip("N intervals over the stroke (N + 1 points)")
-    tform.addRow("points N", panel.row(points, "intervals"))
-    boxes = [lever, slider, stroke]
+    tform.addRow("points N", panel.row(points, "—"))
+    boxes = [lever, rocker, slider, stroke]
 
     if el().drive is not None:
         drive = QGroupBox("Drive (crank and coupler)")
         dform = QFormLayout(drive)
-        number(dform, "drive.crank_pivot.0", "crank pivot A x", "mm")
-        number(dform, "drive.crank_pivot.1", "crank pivot A y", "mm")
-        number(dform, "drive.coupler_point.0", "coupler point C x", "mm", "the lever point the coupler drives")
-        number(dform, "drive.coupler_point.1", "coupler point C y", "mm")
+        number(dform, "drive.crank_pivot.0", "crank A x", "mm", "crank pivot", "the crank's ground pivot")
+        number(dform, "drive.crank_pivot.1", "crank A y", "mm", "crank pivot")
+        number(dform, "drive.coupler_point.0", "lever C x", "mm", "coupler point",
+               "the lever point the coupler drives (drawn pose)")
+        number(dform, "drive.coupler_point.1", "lever C y", "mm", "coupler point")
         boxes.append(drive)
 
     derived = QGroupBox("Derived (read-only)")
     xform = QFormLayout(derived)
     labels = {k: QLabel() for k in ("ell", "stroke", "range", "S5", "drive")}
-    for key, text in (("ell", "rocker length ℓ"), ("stroke", "stroke"), ("range", "working range"),
-                      ("S5", "slider travel"), ("drive", "crank / coupler")):
+    for key, text in (("ell", "rocker ℓ"), ("stroke", "stroke"), ("range", "range"),
+                      ("S5", "travel S5"), ("drive", "crank / coupler")):
         labels[key].setWordWrap(True)
         xform.addRow(text, labels[key])
 

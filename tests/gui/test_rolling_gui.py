@@ -108,7 +108,7 @@ def test_a_stroke_edit_and_the_method_are_one_undo_step_each(shell, qtbot):
     before = c.scene
     _type(qtbot, props.fields["stroke.to"], "-0.5")
     assert c.scene.element("press").stroke.end == -0.5
-    assert c.undo_stack.count() == 1 and c.undo_stack.undoText() == "set stroke to θ of press"
+    assert c.undo_stack.count() == 1 and c.undo_stack.undoText() == "set stroke end of press"
     assert view.element_items["press"].result.element.stroke.end == -0.5
     props.combos["method"].activated.emit(props.combos["method"].findData("paper"))
     assert c.scene.element("press").method == "paper" and c.undo_stack.count() == 2
