@@ -232,3 +232,23 @@ def test_clicking_the_wheel_selects_the_drive_and_delete_removes_it(shell, qtbot
     parts.window.actions["undo"].trigger()
     assert c.scene == load_scene(resources.example_path("geneva_z4"))
     assert "indexer" in view.element_items
+
+
+def test_with_a_linkage_the_drive_follows_by_cycle_phase(shell):
+    from mechsketch.core import Scene
+
+    parts = shell()
+    c, view = parts.controller, parts.window.canvas
+    fourbar = load_scene(resources.example_path("fourbar_crank_rocker")).elements[0]
+    geneva = load_scene(resources.example_path("geneva_z8")).elements[0]
+    c.reset(Scene((fourbar, geneva)), None)
+    assert c.sample_count() == 360 and c.element_result("indexer").n_frames == 3600
+    item = view.element_items["indexer"]
+    kin = geneva.kinematics()
+    c.set_frame(90)                                   # a quarter of the cycle: sample 900 of 3600
+    assert item.index == 900
+    assert _wrap(item.wheel_rotation() - kin.wheel_angle[900]) == pytest.approx(0.0, abs=1e-9)
+    assert "fourbar" in parts.window.plots.title.text()          # nothing selected: the linkage is plotted
+    c.set_selection([("indexer", "element", "indexer")])   # selecting the drive plots it
+    assert "wheel.ω" in parts.window.plots.curves
+    assert parts.window.plots.cursor_x() == pytest.approx(math.degrees(kin.phi[900]))

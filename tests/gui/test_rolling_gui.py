@@ -3,12 +3,14 @@ from the drive's frames, edited in the properties panel, summarised and plotted.
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
 from PySide6.QtCore import QPointF, Qt
 from PySide6.QtGui import QPainterPath
 
+from mechsketch.core import ReplaceElement
 from mechsketch.core.analyses import rolling_synthesis
 from mechsketch.core.cli import rolling_cmds
 from mechsketch.core.model.rolling_lever import RollingLever
@@ -163,3 +165,24 @@ def test_plots_show_alpha_k53_s5_and_the_slip_against_theta(shell):
     fr = c.element_result("press").frames
     c.set_frame(123)
     assert plots.cursor_x() == pytest.approx(math.degrees(fr.theta[123]))
+
+
+def test_without_a_drive_the_lever_runs_the_stroke_there_and_back(shell):
+    parts, c, view = _open(shell, "rolling_lever_inclined")
+    props = parts.window.properties
+    assert "drive.crank_pivot.0" in props.fields
+    el = replace(c.scene.element("inclined"), drive=None)
+    assert c.push(ReplaceElement(el, "remove the drive"))
+    assert "drive.crank_pivot.0" not in props.fields                 # the panel follows the element
+    fr = c.element_result("inclined").frames
+    n = len(fr)
+    assert fr.A is None and n == c.sample_count()
+    assert fr.theta[0] == pytest.approx(el.stroke.start) and fr.theta[n // 2] == pytest.approx(el.stroke.end)
+    item = view.element_items["inclined"]
+    k = n // 4
+    c.set_frame(k)
+    state, s5 = el.synthesize(measures=False).pose(np.array([fr.theta[k]]))   # the core's exact motion
+    f = item.lever.mapToScene(QPointF(*el.pin))
+    assert (f.x(), f.y()) == pytest.approx(tuple(state.F[0]), abs=1e-9)
+    assert item.lever_rotation() == pytest.approx(fr.theta[k], abs=1e-12)
+    assert item.slider_offset() == pytest.approx((s5[0] * el.slider_axis[0], s5[0] * el.slider_axis[1]), abs=1e-9)
