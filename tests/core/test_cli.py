@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import reference as R
+import linkage_builders as LB
 from mechsketch.core import load_scene
 from mechsketch.core.cli import main
 from mechsketch.resources import example_path
@@ -35,7 +35,7 @@ def read_csv(text: str):
 
 def write(tmp_path, *linkages, name="scene.json") -> Path:
     p = tmp_path / name
-    p.write_text(json.dumps(R.scene_dict(*linkages)), encoding="utf-8")
+    p.write_text(json.dumps(LB.scene_dict(*linkages)), encoding="utf-8")
     return p
 
 
@@ -81,7 +81,7 @@ def test_analyze_csv_columns_rows_and_values(capsys, name, n):
 
 
 def test_analyze_rows_follow_a_clockwise_driver(tmp_path, capsys):
-    lk = R.fourbar(theta0=200.0, rpm=-120.0)
+    lk = LB.fourbar(theta0=200.0, rpm=-120.0)
     code, out, _ = run(["analyze", write(tmp_path, lk), "--samples", 8, "--csv", "-"], capsys)
     assert code == 0
     head, rows = read_csv(out)
@@ -133,7 +133,7 @@ def test_analyze_csv_to_an_unwritable_path(tmp_path, capsys):
 
 
 def test_element_selection(tmp_path, capsys):
-    a, b = R.fourbar(eid="first"), R.slider_crank(eid="second")
+    a, b = LB.fourbar(eid="first"), LB.slider_crank(eid="second")
     p = write(tmp_path, a, b)
     code, out, err = run(["analyze", p, "--samples", 4, "--csv", "-"], capsys)
     assert code == 0 and "using element 'first'" in err
@@ -160,7 +160,7 @@ def test_usage_error_exit_2(capsys):
 def test_validate_ok_and_problems(tmp_path, capsys):
     code, out, _ = run(["validate", example_path("sixbar_moving_guide")], capsys)
     assert code == 0 and out.strip().endswith(": ok")
-    doc = R.scene_dict(R.fourbar())
+    doc = LB.scene_dict(LB.fourbar())
     doc["elements"][0]["links"][2]["joints"][1] = "Z"
     doc["elements"][0]["joints"][1]["at"] = [float("nan"), 0]
     p = tmp_path / "bad.json"
@@ -173,12 +173,12 @@ def test_validate_ok_and_problems(tmp_path, capsys):
 
 # -- structural problems ---------------------------------------------------------------------
 @pytest.mark.parametrize("builder,words", [
-    (R.class3, ["class-II", "X1", "X2", "X3", "G2", "G3", "b1", "tri"]),
-    (lambda: R.build("fivebar", [("A", "R", (0, 0)), ("B", "R", (20, 30)), ("C", "R", (70, 60)),
+    (LB.class3, ["class-II", "X1", "X2", "X3", "G2", "G3", "b1", "tri"]),
+    (lambda: LB.build("fivebar", [("A", "R", (0, 0)), ("B", "R", (20, 30)), ("C", "R", (70, 60)),
                                  ("D", "R", (120, 40)), ("E", "R", (140, 0))],
                      {"ground": ["A", "E"], "crank": ["A", "B"], "l2": ["B", "C"], "l3": ["C", "D"],
                       "l4": ["D", "E"]}, "ground", "crank", "A"), ["mobility 2", "under-constrained"]),
-    (lambda: R.fourbar().with_link(R.fourbar().link("coupler").__class__("diag", ("B", "D"))),
+    (lambda: LB.fourbar().with_link(LB.fourbar().link("coupler").__class__("diag", ("B", "D"))),
      ["mobility 0", "over-constrained"]),
 ])
 def test_structural_problems_exit_non_zero_naming_the_joints(tmp_path, capsys, builder, words):
@@ -198,7 +198,7 @@ def test_entry_point_end_to_end(tmp_path):
     r = subprocess.run([str(MECHSKETCH), "analyze", str(example_path("slider_crank_offset")), "--samples", "12",
                         "--csv", "-"], capture_output=True, text=True, timeout=120)
     assert r.returncode == 0 and len(r.stdout.strip().splitlines()) == 13
-    bad = write(tmp_path, R.class3())
+    bad = write(tmp_path, LB.class3())
     r = subprocess.run([str(MECHSKETCH), "analyze", str(bad)], capture_output=True, text=True, timeout=120)
     assert r.returncode == 1 and "Traceback" not in r.stderr and "X1" in r.stderr
     # the table piped into a reader that stops early: no traceback, exit 0

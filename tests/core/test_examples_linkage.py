@@ -8,7 +8,9 @@ import math
 import numpy as np
 import pytest
 
+import linkage_builders as LB
 import reference as R
+import solution_checks as CK
 from mechsketch.core import load_scene, validate_file
 from mechsketch.core.cli import main
 from mechsketch.core.solver.diagnostics import diagnose
@@ -35,19 +37,19 @@ LINKAGE_EXAMPLES = [(p, e.id) for p in PATHS for e in linkages(p)]
 def test_example_linkage_solves_accurately(path, eid, capsys):
     lk = load_scene(path).element(eid)
     sol = lk.solve(samples=lk.samples, order=2)
-    size = R.size_of(lk)
+    size = LB.size_of(lk)
     assert len(sol) == lk.samples
     assert sol.valid[0]
     if path.stem != "double_rocker":
         assert sol.valid.all()
-    assert R.closure_error(lk, sol) <= 1e-12 * size
+    assert CK.closure_error(lk, sol) <= 1e-12 * size
     assert sol.residual() <= 1e-12 * size
     ok = np.flatnonzero(sol.valid)
     err = R.relative(R.compare(lk, sol, ok[:: max(1, len(ok) // 8)]))
     assert err["pos"] <= 1e-13 and err["ang"] <= 1e-13, err
     assert max(err[q] for q in ("vel", "acc", "omega", "alpha")) <= 1e-11, err
     for g in sol.groups:
-        s = R.mode_signs(lk, sol, g)
+        s = CK.mode_signs(lk, sol, g)
         assert np.all(s[sol.valid] == s[0])
     assert main(["analyze", str(path), "--element", eid, "--samples", "24", "--csv", "-"]) == 0
     out = capsys.readouterr().out
@@ -100,11 +102,11 @@ def test_inverted_slider_crank_swing():
 def test_sixbar_block_stays_on_the_rocker_guide():
     lk = example("sixbar_moving_guide")
     sol = lk.solve(samples=720)
-    D, C, E = (R._z(sol.position(j)) for j in "DCE")
+    D, C, E = (CK._z(sol.position(j)) for j in "DCE")
     q = lk.joint("Q")
-    u = R.link_rotation(sol, lk, "rocker") * R.e(q.axis_deg)
+    u = CK.link_rotation(sol, lk, "rocker") * LB.e(q.axis_deg)
     # E on the rocker's line through Q: cross(u, E − Q(t)) = 0
-    Q = R._z(sol.point("rocker", q.at))
-    assert np.max(np.abs(R.cross2_arr(u, E - Q))) < 1e-11
-    assert np.allclose(np.abs(E - R._z(sol.position("B"))), abs(complex(*lk.joint("E").at) - complex(*lk.joint("B").at)),
+    Q = CK._z(sol.point("rocker", q.at))
+    assert np.max(np.abs(CK.cross2_arr(u, E - Q))) < 1e-11
+    assert np.allclose(np.abs(E - CK._z(sol.position("B"))), abs(complex(*lk.joint("E").at) - complex(*lk.joint("B").at)),
                        atol=1e-11)

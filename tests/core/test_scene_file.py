@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-import reference as R
+import linkage_builders as LB
 from mechsketch.core import (ExportError, SceneFormatError, dumps_scene, load_scene, loads_scene,
                              save_scene, validate_file)
 from mechsketch.core.cli import main as cli_main
@@ -250,10 +250,10 @@ def test_round_trip_load_save_load(tmp_path, path):
 
 
 def test_round_trip_keeps_every_float_bit(tmp_path):
-    lk = R.slider_crank(xi=-90.0, pin=1e-300 + 3j, theta0=1e-7, offset=-0.0)
+    lk = LB.slider_crank(xi=-90.0, pin=1e-300 + 3j, theta0=1e-7, offset=-0.0)
     lk = lk.with_joint(lk.joint("S").__class__("S", lk.joint("S").kind, lk.joint("S").at, 1 / 3))
     from mechsketch.core import Scene
-    scene = Scene((R.translated(lk, 0.1, 1e6),))
+    scene = Scene((LB.translated(lk, 0.1, 1e6),))
     out = tmp_path / "s.json"
     save_scene(scene, out)
     back = load_scene(out)

@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-import reference as R
+import linkage_builders as LB
 from mechsketch.core.solver.diagnostics import diagnose
 
 
@@ -20,7 +20,7 @@ def _z(a):
 @pytest.mark.parametrize("samples", [360, 3600, 7201])
 def test_parallelogram_stays_a_parallelogram_through_both_change_points(theta0, samples):
     mode = 1 if math.sin(math.radians(theta0)) > 0 else -1  # the drawn pose is the parallelogram
-    lk = R.fourbar(crank=40.0, coupler=100.0, rocker=40.0, ground=100.0, theta0=theta0, mode=mode)
+    lk = LB.fourbar(crank=40.0, coupler=100.0, rocker=40.0, ground=100.0, theta0=theta0, mode=mode)
     sol = lk.solve(samples=samples, order=2)
     assert sol.valid.all()
     # closed form of the parallelogram branch: C = D + (B − A), so the coupler keeps its angle
@@ -39,7 +39,7 @@ def test_parallelogram_stays_a_parallelogram_through_both_change_points(theta0, 
 
 
 def test_change_points_are_reported_as_such():
-    lk = R.fourbar(crank=40.0, coupler=100.0, rocker=40.0, ground=100.0, theta0=30.0)
+    lk = LB.fourbar(crank=40.0, coupler=100.0, rocker=40.0, ground=100.0, theta0=30.0)
     d = diagnose(lk.solve(samples=720, order=2))
     kinds = sorted((round(math.degrees(p.input)) % 360, p.kind) for p in d.dead_points)
     assert kinds == [(0, "change point"), (180, "change point")]
@@ -49,7 +49,7 @@ def test_change_points_are_reported_as_such():
 def test_velocity_is_continuous_across_a_change_point():
     """On the smooth branch the closed-form velocity equals the finite difference of positions
     on both sides of the change point (on the crossed branch it would jump)."""
-    lk = R.fourbar(crank=40.0, coupler=100.0, rocker=40.0, ground=100.0, theta0=30.0)
+    lk = LB.fourbar(crank=40.0, coupler=100.0, rocker=40.0, ground=100.0, theta0=30.0)
     plan = lk.compile()
     h = 1e-5
     for side in (-1e-3, 1e-3):
@@ -63,7 +63,7 @@ def test_velocity_is_continuous_across_a_change_point():
 @pytest.mark.parametrize("gap", [1e-6, 1e-10])
 def test_a_near_miss_is_not_a_branch_point(gap):
     """Grashof four-bar with s + l = p + q − gap: it passes close to the toggle and keeps its mode."""
-    lk = R.fourbar(crank=40.0, coupler=100.0, rocker=40.0 - gap, ground=100.0, theta0=30.0)
+    lk = LB.fourbar(crank=40.0, coupler=100.0, rocker=40.0 - gap, ground=100.0, theta0=30.0)
     plan = lk.compile()
     sol = plan.sweep(3600, order=0)
     branches = plan.branch_points()["RRR(coupler,rocker)"]
@@ -76,7 +76,7 @@ def test_a_near_miss_is_not_a_branch_point(gap):
 
 def test_kite_outer_joints_pass_through_each_other_without_a_jump():
     """Rhombus four-bar: B passes through D; the coupler keeps its direction (no 2·length jump)."""
-    lk = R.fourbar(crank=60.0, coupler=60.0, rocker=60.0, ground=60.0, theta0=36.67)
+    lk = LB.fourbar(crank=60.0, coupler=60.0, rocker=60.0, ground=60.0, theta0=36.67)
     x = lk.compile().theta0 + np.linspace(0.0, 2 * math.pi, 7200, endpoint=False) + 1e-7
     sol = lk.compile().evaluate(x, order=0)
     C = _z(sol.position("C"))

@@ -8,7 +8,7 @@ import mpmath
 import numpy as np
 import pytest
 
-import reference as R
+import linkage_builders as LB
 from mechsketch.core import load_scene
 from mechsketch.core.solver.diagnostics import diagnose
 from mechsketch.resources import example_path
@@ -58,7 +58,7 @@ def test_double_rocker_reachable_range_and_limits(rpm):
 
 
 def test_slider_crank_limits():
-    lk = R.slider_crank(crank=40.0, rod=30.0, offset=20.0, theta0=10.0)
+    lk = LB.slider_crank(crank=40.0, rod=30.0, offset=20.0, theta0=10.0)
     sol = lk.solve(samples=360)
     d = diagnose(sol)
     lim = math.asin(-0.25)             # B_y − e = −rod
@@ -92,15 +92,15 @@ def test_crank_rocker_summary_numbers():
 
 
 def test_modes_in_the_summary():
-    d = diagnose(R.sixbar_guide(-1).solve(samples=90))
+    d = diagnose(LB.sixbar_guide(-1).solve(samples=90))
     assert [(k, m) for _, k, m in d.groups] == [("RRR", 1.0), ("RRP", -1.0)]
-    d = diagnose(R.inverted_slider_crank(mode=-1, offset=4.0).solve(samples=90))
+    d = diagnose(LB.inverted_slider_crank(mode=-1, offset=4.0).solve(samples=90))
     assert [(k, m) for _, k, m in d.groups] == [("RPR", -1.0)]
 
 
 def test_prp_parallel_guides_are_assembly_limits():
     """The crank's guide turns parallel to the fixed one twice per turn: two tiny gaps."""
-    lk = R.prp_linkage()
+    lk = LB.prp_linkage()
     sol = lk.solve(samples=360)
     d = diagnose(sol)
     limits = sorted(p.input for p in d.dead_points if p.kind == "limit")

@@ -12,7 +12,9 @@ import math
 import numpy as np
 import pytest
 
+import linkage_builders as LB
 import reference as R
+import solution_checks as CK
 
 POS_TOL = 1e-13     # relative to the mechanism's size
 ANG_TOL = 1e-13     # rad
@@ -21,48 +23,48 @@ RATE_TOL = 1e-11    # relative to the largest reference value of the kind
 
 def _cases():
     c = {}
-    c["RRR+"] = (lambda: R.fourbar(), ["RRR"], [1])
-    c["RRR-"] = (lambda: R.fourbar(mode=-1), ["RRR"], [-1])
-    c["RRR+ drawn q2"] = (lambda: R.fourbar(theta0=135.0), ["RRR"], [1])
-    c["RRR- drawn q3, ground q3"] = (lambda: R.fourbar(theta0=225.0, mode=-1, rot=200.0, origin=-300 - 90j),
+    c["RRR+"] = (lambda: LB.fourbar(), ["RRR"], [1])
+    c["RRR-"] = (lambda: LB.fourbar(mode=-1), ["RRR"], [-1])
+    c["RRR+ drawn q2"] = (lambda: LB.fourbar(theta0=135.0), ["RRR"], [1])
+    c["RRR- drawn q3, ground q3"] = (lambda: LB.fourbar(theta0=225.0, mode=-1, rot=200.0, origin=-300 - 90j),
                                     ["RRR"], [-1])
-    c["RRR drag-link CW"] = (lambda: R.fourbar(crank=60, coupler=110, rocker=100, ground=30, theta0=160,
+    c["RRR drag-link CW"] = (lambda: LB.fourbar(crank=60, coupler=110, rocker=100, ground=30, theta0=160,
                                                rpm=-45.0), ["RRR"], [1])
-    c["RRP+"] = (lambda: R.slider_crank(), ["RRP"], [1])
-    c["RRP-"] = (lambda: R.slider_crank(mode=-1), ["RRP"], [-1])
-    c["RRP+ vertical guide, pin offset"] = (lambda: R.slider_crank(xi=90.0, pin=3 + 4j, theta0=20.0),
+    c["RRP+"] = (lambda: LB.slider_crank(), ["RRP"], [1])
+    c["RRP-"] = (lambda: LB.slider_crank(mode=-1), ["RRP"], [-1])
+    c["RRP+ vertical guide, pin offset"] = (lambda: LB.slider_crank(xi=90.0, pin=3 + 4j, theta0=20.0),
                                             ["RRP"], [1])
-    c["RRP- vertical guide"] = (lambda: R.slider_crank(xi=90.0, mode=-1, theta0=135.0), ["RRP"], [-1])
-    c["RRP guide 270"] = (lambda: R.slider_crank(xi=270.0, offset=-12.0, theta0=300.0, pin=-2 + 5j),
+    c["RRP- vertical guide"] = (lambda: LB.slider_crank(xi=90.0, mode=-1, theta0=135.0), ["RRP"], [-1])
+    c["RRP guide 270"] = (lambda: LB.slider_crank(xi=270.0, offset=-12.0, theta0=300.0, pin=-2 + 5j),
                           ["RRP"], [1])
-    c["RRP guide -90"] = (lambda: R.slider_crank(xi=-90.0, offset=12.0, theta0=100.0, mode=-1),
+    c["RRP guide -90"] = (lambda: LB.slider_crank(xi=-90.0, offset=12.0, theta0=100.0, mode=-1),
                           ["RRP"], [-1])
-    c["RRP q2 guide 150"] = (lambda: R.slider_crank(xi=150.0, theta0=135.0, offset=-15.0, pin=-4 + 6j),
+    c["RRP q2 guide 150"] = (lambda: LB.slider_crank(xi=150.0, theta0=135.0, offset=-15.0, pin=-4 + 6j),
                              ["RRP"], [1])
-    c["RRP q3 guide 200"] = (lambda: R.slider_crank(xi=200.0, theta0=225.0, offset=10.0, mode=-1,
+    c["RRP q3 guide 200"] = (lambda: LB.slider_crank(xi=200.0, theta0=225.0, offset=10.0, mode=-1,
                                                     origin=-50 - 80j), ["RRP"], [-1])
-    c["RRP moving guide +"] = (lambda: R.sixbar_guide(1), ["RRR", "RRP"], [1, 1])
-    c["RRP moving guide -"] = (lambda: R.sixbar_guide(-1), ["RRR", "RRP"], [1, -1])
-    c["RRP guide on the driver +"] = (lambda: R.crank_guided(mode=1), ["RRP"], [1])
-    c["RRP guide on the driver -"] = (lambda: R.crank_guided(mode=-1, pin=(5.0, -6.0)), ["RRP"], [-1])
-    c["RPR+"] = (lambda: R.inverted_slider_crank(offset=8.0, q_along=12.0), ["RPR"], [1])
-    c["RPR-"] = (lambda: R.inverted_slider_crank(offset=8.0, q_along=-12.0, mode=-1), ["RPR"], [-1])
-    c["RPR- q2/q3"] = (lambda: R.inverted_slider_crank(offset=-6.0, theta0=200.0, mode=-1, rot=150.0,
+    c["RRP moving guide +"] = (lambda: LB.sixbar_guide(1), ["RRR", "RRP"], [1, 1])
+    c["RRP moving guide -"] = (lambda: LB.sixbar_guide(-1), ["RRR", "RRP"], [1, -1])
+    c["RRP guide on the driver +"] = (lambda: LB.crank_guided(mode=1), ["RRP"], [1])
+    c["RRP guide on the driver -"] = (lambda: LB.crank_guided(mode=-1, pin=(5.0, -6.0)), ["RRP"], [-1])
+    c["RPR+"] = (lambda: LB.inverted_slider_crank(offset=8.0, q_along=12.0), ["RPR"], [1])
+    c["RPR-"] = (lambda: LB.inverted_slider_crank(offset=8.0, q_along=-12.0, mode=-1), ["RPR"], [-1])
+    c["RPR- q2/q3"] = (lambda: LB.inverted_slider_crank(offset=-6.0, theta0=200.0, mode=-1, rot=150.0,
                                                        origin=-40 + 70j), ["RPR"], [-1])
-    c["PRP"] = (lambda: R.prp_linkage(), ["PRP"], [1])
-    c["PRP offset guide, vertical"] = (lambda: R.prp_linkage(crank_dir=200.0, guide_offset=12.0, xi=90.0,
+    c["PRP"] = (lambda: LB.prp_linkage(), ["PRP"], [1])
+    c["PRP offset guide, vertical"] = (lambda: LB.prp_linkage(crank_dir=200.0, guide_offset=12.0, xi=90.0,
                                                              g=(-70.0, 15.0)), ["PRP"], [1])
-    c["RPP scotch yoke"] = (lambda: R.scotch_yoke(), ["RPP"], [1])
-    c["RPP inclined"] = (lambda: R.scotch_yoke(slot=120.0, guide=200.0, theta0=250.0, guide_at=(-20.0, 45.0)),
+    c["RPP scotch yoke"] = (lambda: LB.scotch_yoke(), ["RPP"], [1])
+    c["RPP inclined"] = (lambda: LB.scotch_yoke(slot=120.0, guide=200.0, theta0=250.0, guide_at=(-20.0, 45.0)),
                          ["RPP"], [1])
-    c["RRR+RRR both outer joints moving"] = (lambda: R.sixbar_stephenson(on_rocker=True, f=(150.0, 60.0)),
+    c["RRR+RRR both outer joints moving"] = (lambda: LB.sixbar_stephenson(on_rocker=True, f=(150.0, 60.0)),
                                              ["RRR", "RRR"], [1, 1])
-    c["RRR+RRR Stephenson, modes -,-"] = (lambda: R.sixbar_stephenson(mode1=-1, mode2=-1, f=(60.0, -150.0),
+    c["RRR+RRR Stephenson, modes -,-"] = (lambda: LB.sixbar_stephenson(mode1=-1, mode2=-1, f=(60.0, -150.0),
                                                                       e_pt=(50.0, -30.0)), ["RRR", "RRR"], [-1, -1])
-    c["RRR then RRP on its inner joint"] = (lambda: R.sixbar_compound(), ["RRR", "RRP"], [1, 1])
-    c["RPR with both outer joints moving"] = (lambda: R.rpr_on_moving_links(), ["RRR", "RPR"], [1, 1])
-    c["RRP guide on the coupler, pin off the axis"] = (lambda: R.rrp_guide_on_coupler(), ["RRR", "RRP"], [1, 1])
-    c["eight-bar RRR, RRR, RRP"] = (lambda: R.eight_bar(), ["RRR", "RRR", "RRP"], [1, 1, -1])
+    c["RRR then RRP on its inner joint"] = (lambda: LB.sixbar_compound(), ["RRR", "RRP"], [1, 1])
+    c["RPR with both outer joints moving"] = (lambda: LB.rpr_on_moving_links(), ["RRR", "RPR"], [1, 1])
+    c["RRP guide on the coupler, pin off the axis"] = (lambda: LB.rrp_guide_on_coupler(), ["RRR", "RRP"], [1, 1])
+    c["eight-bar RRR, RRR, RRP"] = (lambda: LB.eight_bar(), ["RRR", "RRR", "RRP"], [1, 1, -1])
     return c
 
 
@@ -92,7 +94,7 @@ def test_group_kinds_and_modes(case):
     assert sol.valid[0], "the drawn pose must assemble"
     ok = sol.valid & well_conditioned(sol, 1e-9)
     for g, mode in zip(sol.groups, modes):
-        s = R.mode_signs(lk, sol, g)
+        s = CK.mode_signs(lk, sol, g)
         assert s[0] == mode, f"{g.name}: drawn pose is in mode {s[0]}, expected {mode}"
         assert np.all(s[ok] == mode), f"{g.name}: assembly mode changes along the sweep"
 
@@ -100,7 +102,7 @@ def test_group_kinds_and_modes(case):
 @pytest.mark.parametrize("case", IDS)
 def test_starts_at_drawn_pose(case):
     lk, plan, sol = solved(case)
-    size = R.size_of(lk)
+    size = LB.size_of(lk)
     assert sol.input[0] == pytest.approx(plan.theta0, abs=0)
     for j in lk.joints:
         assert np.allclose(sol.position(j.id)[0], j.at, rtol=0, atol=1e-13 * size), j.id
@@ -111,9 +113,9 @@ def test_starts_at_drawn_pose(case):
 @pytest.mark.parametrize("case", IDS)
 def test_loop_closure_every_sample(case):
     lk, plan, sol = solved(case)
-    size = R.size_of(lk)
+    size = LB.size_of(lk)
     assert sol.valid.sum() > 0.7 * len(sol)
-    assert R.closure_error(lk, sol) <= 1e-12 * size
+    assert CK.closure_error(lk, sol) <= 1e-12 * size
     assert sol.residual() <= 1e-12 * size
 
 
@@ -160,7 +162,7 @@ def test_against_mpmath_with_driver_acceleration(case):
 def test_against_central_finite_differences(case):
     lk, plan, sol = solved(case)
     inputs = sol.input[::5]
-    bad_v, bad_a, checked, sharp, info = R.fd_errors(plan, inputs)
+    bad_v, bad_a, checked, sharp, info = CK.fd_errors(plan, inputs)
     assert checked >= 0.8 * len(inputs) * sol.valid.mean() - 3
     assert sharp >= 0.8 * checked, "finite differences too blunt to test anything"
     assert bad_v == 0 and bad_a == 0, info
@@ -172,7 +174,7 @@ def test_generic_newton_continuation_follows_the_same_branch(case):
     lands on the solver's solution (the solver picked and kept the right assembly)."""
     lk, plan, sol = solved(case, 180)
     poses, ref = R.continuation(lk, sol.input)
-    size = R.size_of(lk)
+    size = LB.size_of(lk)
     first_bad = np.flatnonzero(~sol.valid)
     stop = first_bad[0] if len(first_bad) else len(sol)
     done = np.isfinite(next(iter(poses.values()))[:, 0]) if poses else np.ones(len(sol), bool)
@@ -182,7 +184,7 @@ def test_generic_newton_continuation_follows_the_same_branch(case):
     for link in ref.unknown:
         for j in lk.link(link).joints:
             p = R.continuation_point(ref, poses, link, lk.joint(j).at)[seg]
-            s = R._z(sol.point(link, lk.joint(j).at))[seg]
+            s = CK._z(sol.point(link, lk.joint(j).at))[seg]
             assert np.max(np.abs(p - s)) <= 1e-9 * size, (link, j)
 
 
@@ -205,13 +207,13 @@ def test_orders_agree(case):
 
 def test_mirrored_fourbar_is_the_other_mode():
     """Mirroring C across B–D gives the other branch: same B, D paths, C reflected at sample 0."""
-    a = R.fourbar()
-    b = R.mirrored(a, "C", "B", "D")
+    a = LB.fourbar()
+    b = LB.mirrored(a, "C", "B", "D")
     sa, sb = a.solve(samples=360), b.solve(samples=360)
     assert np.allclose(sa.position("B"), sb.position("B"), atol=1e-12)
     assert not np.allclose(sa.position("C"), sb.position("C"), atol=1.0)
     g = sb.groups[0]
-    assert np.all(R.mode_signs(b, sb, g) == -1)
+    assert np.all(CK.mode_signs(b, sb, g) == -1)
     # the mirrored branch has the same coupler/rocker lengths at every sample
     for s in (sa, sb):
         assert np.allclose(np.hypot(*(s.position("C") - s.position("B")).T), 140.0, atol=1e-11)

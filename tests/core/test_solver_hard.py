@@ -14,7 +14,9 @@ import mpmath
 import numpy as np
 import pytest
 
+import linkage_builders as LB
 import reference as R
+import solution_checks as CK
 from mechsketch.core.solver.diagnostics import diagnose
 
 EPS = 2.220446049250313e-16
@@ -24,11 +26,11 @@ GAPS = (1e-6, 1e-10)
 def toggle_case(kind: str, gap: float, mode: int):
     """(linkage, driver angle of the near-toggle) for a sweep passing ``gap`` mm from a toggle."""
     if kind == "RRR":      # coupler + rocker = crank + ground + gap: nearly straight at θ = π
-        return R.fourbar(rocker=60.0 + gap, mode=mode), math.pi
+        return LB.fourbar(rocker=60.0 + gap, mode=mode), math.pi
     if kind == "RRP":      # rod = crank + offset + gap: rod ⟂ guide at θ = 270°
-        return R.slider_crank(crank=40.0, rod=60.0 + gap, offset=20.0, theta0=30.0, mode=mode), 1.5 * math.pi
+        return LB.slider_crank(crank=40.0, rod=60.0 + gap, offset=20.0, theta0=30.0, mode=mode), 1.5 * math.pi
     # RPR: |offset| = ground − crank − gap: the axis nearly tangent at θ = 0
-    return R.inverted_slider_crank(crank=40.0, ground=100.0, offset=60.0 - gap, theta0=60.0, mode=mode), 2 * math.pi
+    return LB.inverted_slider_crank(crank=40.0, ground=100.0, offset=60.0 - gap, theta0=60.0, mode=mode), 2 * math.pi
 
 
 def actual_gap(kind: str, lk) -> mpmath.mpf:
@@ -61,7 +63,7 @@ def test_near_toggle_accuracy_against_mpmath(kind, gap, mode):
     g = float(actual_gap(kind, lk))
     assert g == pytest.approx(gap, rel=1e-3)
     assert sol.valid.all()
-    size = R.size_of(lk)
+    size = LB.size_of(lk)
     near = t + np.array([0.0, 1e-8, -1e-8, 1e-6, -1e-6, 1e-5, -1e-4, 1e-3, 2 * math.pi / 360])
     ev = plan.evaluate(near, order=2)
     k = int(np.argmin(np.abs(np.angle(np.exp(1j * (sol.input - t))))))
@@ -113,12 +115,12 @@ def _true_conditioning(lk, grp, st):
 def test_mode_kept_and_motion_continuous_through_near_toggle(kind, gap, mode):
     lk, t, plan, sol = toggle_solved(kind, gap, mode)
     g = sol.groups[0]
-    assert np.all(R.mode_signs(lk, sol, g) == mode)
+    assert np.all(CK.mode_signs(lk, sol, g) == mode)
     # densely around the toggle: same mode, no jump larger than the motion allows
     x = t + np.linspace(-2e-3, 2e-3, 4001)
     ev = plan.evaluate(x, order=2)
     assert ev.valid.all()
-    assert np.all(R.mode_signs(lk, ev, g) == mode)
+    assert np.all(CK.mode_signs(lk, ev, g) == mode)
     dt = (x[1] - x[0]) / abs(plan.omega)
     for j in lk.joint_ids:
         p, v, a = ev.position(j), ev.velocity(j), ev.acceleration(j)
@@ -126,9 +128,9 @@ def test_mode_kept_and_motion_continuous_through_near_toggle(kind, gap, mode):
         vmax = np.maximum(np.hypot(*v[1:].T), np.hypot(*v[:-1].T))
         amax = np.maximum(np.hypot(*a[1:].T), np.hypot(*a[:-1].T))
         assert np.all(step <= 1.01 * vmax * dt + amax * dt * dt + 1e-12), j
-    size = R.size_of(lk)
-    assert R.closure_error(lk, ev) <= 1e-12 * size
-    assert R.closure_error(lk, sol) <= 1e-12 * size
+    size = LB.size_of(lk)
+    assert CK.closure_error(lk, ev) <= 1e-12 * size
+    assert CK.closure_error(lk, sol) <= 1e-12 * size
 
 
 @pytest.mark.parametrize("kind,gap,mode", [(k, g, 1) for k in ("RRR", "RRP", "RPR") for g in GAPS])
@@ -156,17 +158,17 @@ def _cond_coeff(kind):
 
 # ---------------------------------------------------------------------------------------------
 RATIO_CASES = {
-    "four-bar crank 1e-4 of the rest": lambda: R.fourbar(crank=0.01, coupler=100.0, rocker=100.0, ground=100.0),
-    "four-bar ground 1e-4 of the crank (drag link)": lambda: R.fourbar(crank=1000.0, coupler=1000.0, rocker=10.0,
+    "four-bar crank 1e-4 of the rest": lambda: LB.fourbar(crank=0.01, coupler=100.0, rocker=100.0, ground=100.0),
+    "four-bar ground 1e-4 of the crank (drag link)": lambda: LB.fourbar(crank=1000.0, coupler=1000.0, rocker=10.0,
                                                                         ground=0.1, theta0=135.0),
-    "four-bar coupler 1e4 of the crank": lambda: R.fourbar(crank=1.0, coupler=1e4, rocker=9999.5, ground=20.0,
+    "four-bar coupler 1e4 of the crank": lambda: LB.fourbar(crank=1.0, coupler=1e4, rocker=9999.5, ground=20.0,
                                                            theta0=225.0, mode=-1),
-    "slider-crank rod 1e4 of the crank": lambda: R.slider_crank(crank=0.01, rod=100.0, offset=0.0, theta0=225.0),
-    "slider-crank rod 1e4 of the crank, 1e6 long": lambda: R.slider_crank(crank=100.0, rod=1e6, offset=50.0,
+    "slider-crank rod 1e4 of the crank": lambda: LB.slider_crank(crank=0.01, rod=100.0, offset=0.0, theta0=225.0),
+    "slider-crank rod 1e4 of the crank, 1e6 long": lambda: LB.slider_crank(crank=100.0, rod=1e6, offset=50.0,
                                                                           theta0=135.0),
-    "inverted slider-crank crank 1e-4": lambda: R.inverted_slider_crank(crank=0.01, ground=100.0, offset=3.0),
-    "scotch yoke crank 1e-4 of the yoke": lambda: R.scotch_yoke(crank=0.01, slot_along=100.0, guide_at=(100.0, -100.0)),
-    "PRP guide 1e4 from the pivot": lambda: R.prp_linkage(guide_offset=0.01, g=(100.0, 100.0), xi=95.0),
+    "inverted slider-crank crank 1e-4": lambda: LB.inverted_slider_crank(crank=0.01, ground=100.0, offset=3.0),
+    "scotch yoke crank 1e-4 of the yoke": lambda: LB.scotch_yoke(crank=0.01, slot_along=100.0, guide_at=(100.0, -100.0)),
+    "PRP guide 1e4 from the pivot": lambda: LB.prp_linkage(guide_offset=0.01, g=(100.0, 100.0), xi=95.0),
 }
 
 
@@ -174,7 +176,7 @@ RATIO_CASES = {
 def test_extreme_length_ratios(name):
     lk = RATIO_CASES[name]()
     sol = lk.solve(samples=360)
-    size = R.size_of(lk)
+    size = LB.size_of(lk)
     ok = np.flatnonzero(sol.valid & (np.nan_to_num(sol.conditioning(sol.groups[0].name)) > 1e-3))
     assert len(ok) > 300
     err = R.relative(R.compare(lk, sol, ok[:: len(ok) // 10]))
@@ -182,34 +184,34 @@ def test_extreme_length_ratios(name):
     assert err["ang"] <= 1e-13, err
     for q in ("vel", "acc", "omega", "alpha"):
         assert err[q] <= 1e-11, (q, err)
-    assert R.closure_error(lk, sol) <= 1e-12 * size
+    assert CK.closure_error(lk, sol) <= 1e-12 * size
     assert sol.residual() <= 1e-12 * size
 
 
 # ---------------------------------------------------------------------------------------------
 FAR = (1e6, -1e6)
 FAR_CASES = {
-    "RRR": lambda: R.fourbar(theta0=135.0),
-    "RRR-": lambda: R.fourbar(mode=-1, theta0=250.0),
-    "RRP vertical, pin offset": lambda: R.slider_crank(xi=90.0, pin=3 + 4j),
-    "RRP moving guide": lambda: R.sixbar_guide(-1),
-    "RPR": lambda: R.inverted_slider_crank(offset=5.0, q_along=10.0),
-    "PRP": lambda: R.prp_linkage(),
-    "RPP": lambda: R.scotch_yoke(slot=120.0, guide=200.0),
-    "RRR+RRR": lambda: R.sixbar_stephenson(on_rocker=True, f=(150.0, 60.0)),
+    "RRR": lambda: LB.fourbar(theta0=135.0),
+    "RRR-": lambda: LB.fourbar(mode=-1, theta0=250.0),
+    "RRP vertical, pin offset": lambda: LB.slider_crank(xi=90.0, pin=3 + 4j),
+    "RRP moving guide": lambda: LB.sixbar_guide(-1),
+    "RPR": lambda: LB.inverted_slider_crank(offset=5.0, q_along=10.0),
+    "PRP": lambda: LB.prp_linkage(),
+    "RPP": lambda: LB.scotch_yoke(slot=120.0, guide=200.0),
+    "RRR+RRR": lambda: LB.sixbar_stephenson(on_rocker=True, f=(150.0, 60.0)),
 }
 
 
 @pytest.mark.parametrize("name", list(FAR_CASES))
 def test_translated_by_1e6_equals_untranslated(name):
     near = FAR_CASES[name]()
-    far = R.translated(near, *FAR)
+    far = LB.translated(near, *FAR)
     s1, s2 = near.solve(samples=360), far.solve(samples=360)
     both = s1.valid & s2.valid
     for g in s1.groups:
         both &= np.nan_to_num(s1.conditioning(g.name)) > 1e-3
     assert both.sum() > 300
-    size = R.size_of(near)
+    size = LB.size_of(near)
     # the drawn crank angle itself carries the coordinates' rounding (eps·1e6 / crank)
     assert np.allclose(s1.input, s2.input, rtol=0, atol=1e-10)
     for link in near.links:
@@ -233,7 +235,7 @@ def test_translated_by_1e6_equals_untranslated(name):
     assert err["pos"] <= 40 * scale, err
     for q in ("vel", "acc", "omega", "alpha"):
         assert err[q] <= 1e-10, (q, err)
-    assert R.closure_error(far, s2) <= 1e-9 * size
+    assert CK.closure_error(far, s2) <= 1e-9 * size
 
 
 @pytest.mark.parametrize("shift", [(0.0, 0.0), FAR])
@@ -241,13 +243,13 @@ def test_prp_at_exactly_parallel_guides_is_not_assembled(shift):
     """Crank drawn at 40°, fixed guide at 100°: samples 60 and 240 put the guide on the crank
     exactly parallel to the fixed one. There the lines do not meet (in float the intersection is
     rounding noise ~1e16 mm away): NaN and valid False, never a 'valid' pose whose loop is open."""
-    lk = R.translated(R.prp_linkage(), *shift)
+    lk = LB.translated(LB.prp_linkage(), *shift)
     sol = lk.solve(samples=360)
     assert not sol.valid[60] and not sol.valid[240]
     assert np.isnan(sol.position("L")[[60, 240]]).all()
     assert sol.valid.sum() >= 356
-    assert R.closure_error(lk, sol) <= 1e-9 * R.size_of(lk)
-    assert sol.residual() <= 1e-9 * R.size_of(lk)
+    assert CK.closure_error(lk, sol) <= 1e-9 * LB.size_of(lk)
+    assert sol.residual() <= 1e-9 * LB.size_of(lk)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -274,24 +276,24 @@ def test_parallelogram_change_points_keep_positions_continuous():
     """crank = rocker, coupler = ground: at θ = 0 and π all four links are collinear. The mode
     is kept, so the motion continues without a jump (on the crossed branch after the first
     change point: the classic parallelogram/antiparallelogram bifurcation)."""
-    lk = R.fourbar(crank=50.0, coupler=150.0, rocker=50.0, ground=150.0, theta0=37.0)
+    lk = LB.fourbar(crank=50.0, coupler=150.0, rocker=50.0, ground=150.0, theta0=37.0)
     sol = lk.solve(samples=720)
     # only the samples exactly at θ = 0, π may fall into the ~1e-8 rad rounding-wide gap there
     at_change = np.abs(np.sin(sol.input)) < 1e-9
     assert at_change.sum() == 2 and sol.valid[~at_change].all()
-    assert R.closure_error(lk, sol) < 1e-11
+    assert CK.closure_error(lk, sol) < 1e-11
     x = sol.input[0] + np.linspace(0.0, 2 * math.pi, 20000, endpoint=False) + 1e-7
     assert _max_jump_ratio(lk, x) <= 1.0
 
 
 def test_rhombus_four_bar_passes_b_through_d_without_a_jump():
-    lk = R.fourbar(crank=60.0, coupler=60.0, rocker=60.0, ground=60.0, theta0=36.67)
+    lk = LB.fourbar(crank=60.0, coupler=60.0, rocker=60.0, ground=60.0, theta0=36.67)
     x = lk.compile().theta0 + np.linspace(0.0, 2 * math.pi, 7200, endpoint=False) + 1e-7
     assert _max_jump_ratio(lk, x) <= 1.0
 
 
 def test_inverted_slider_crank_pin_through_the_pivot_without_a_jump():
-    lk = R.inverted_slider_crank(crank=50.0, ground=50.0, offset=0.0, theta0=40.0)
+    lk = LB.inverted_slider_crank(crank=50.0, ground=50.0, offset=0.0, theta0=40.0)
     x = lk.compile().theta0 + np.linspace(0.0, 2 * math.pi, 7200, endpoint=False) + 1e-7
     assert _max_jump_ratio(lk, x) <= 1.0
 
@@ -302,13 +304,13 @@ def test_rhombus_drawn_on_grid_angles_never_gives_an_open_loop(theta0):
     where the crank pin lies on the rocker pivot to ~1e-14 mm, and inputs nearby put it 1e-14 to
     1e-6 mm away. There the coupler's direction is all but undetermined, but whatever pose is
     returned as valid must close its loop (it used to be open by up to 96 mm)."""
-    lk = R.fourbar(crank=60.0, coupler=60.0, rocker=60.0, ground=60.0, theta0=theta0)
-    size = R.size_of(lk)
+    lk = LB.fourbar(crank=60.0, coupler=60.0, rocker=60.0, ground=60.0, theta0=theta0)
+    size = LB.size_of(lk)
     sol = lk.solve(samples=360)
-    assert R.closure_error(lk, sol) <= 1e-9 * size
+    assert CK.closure_error(lk, sol) <= 1e-9 * size
     assert sol.residual() <= 1e-9 * size
     assert sol.valid.sum() >= 359
     d = np.array([1e-15, 1e-14, 1e-13, 1e-12, 1e-11, 1e-10, 1e-9, 1e-8, 1e-7])
     ev = lk.compile().evaluate(np.concatenate([d, -d]), order=0)
     assert ev.valid.all()
-    assert R.closure_error(lk, ev) <= 1e-9 * size
+    assert CK.closure_error(lk, ev) <= 1e-9 * size

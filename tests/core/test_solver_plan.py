@@ -7,7 +7,8 @@ import math
 import numpy as np
 import pytest
 
-import reference as R
+import linkage_builders as LB
+import solution_checks as CK
 from mechsketch.core import Linkage, load_scene
 from mechsketch.core.solver.plan import compile_plan
 from mechsketch.resources import example_path
@@ -38,7 +39,7 @@ def _counting(plan):
     (None, ["RRR(coupler,rocker)", "RRP(rod,slider)"]),
 ])
 def test_only_the_groups_the_requested_joints_depend_on_are_evaluated(joints, expected):
-    lk = R.two_dyads()
+    lk = LB.two_dyads()
     plan = lk.compile()
     ran = _counting(plan)
     x = np.linspace(0.0, 2 * math.pi, 50)
@@ -60,7 +61,7 @@ def test_dependencies_through_a_moving_guide_and_a_compound_hinge():
     assert [g.name for g in six.evaluate([0.3], joints=["C"]).groups] == ["RRR(coupler,rocker)"]
     # the block slides on the rocker: E needs the four-bar first
     assert [g.kind for g in six.evaluate([0.3], joints=["E"]).groups] == ["RRR", "RRP"]
-    comp = R.sixbar_compound().compile()
+    comp = LB.sixbar_compound().compile()
     assert [g.kind for g in comp.evaluate([0.3], joints=["C"]).groups] == ["RRR"]
     assert [g.kind for g in comp.evaluate([0.3], joints=["S"]).groups] == ["RRR", "RRP"]
     with pytest.raises(KeyError, match="no joint"):
@@ -84,7 +85,7 @@ def test_public_one_line_api():
 # -- sweeps ----------------------------------------------------------------------------------------
 @pytest.mark.parametrize("rpm", [95.4929658551372, -30.0])
 def test_sweep_starts_at_drawn_pose_and_follows_the_driver(rpm):
-    lk = R.fourbar(theta0=135.0, rpm=rpm)
+    lk = LB.fourbar(theta0=135.0, rpm=rpm)
     n = 72
     sol = lk.solve(samples=n)
     sgn = math.copysign(1.0, rpm)
@@ -102,7 +103,7 @@ def test_sweep_starts_at_drawn_pose_and_follows_the_driver(rpm):
 
 
 def test_sweep_argument_errors():
-    plan = R.fourbar().compile()
+    plan = LB.fourbar().compile()
     with pytest.raises(ValueError, match="samples"):
         plan.sweep(samples=1)
     with pytest.raises(ValueError, match="order"):
@@ -110,7 +111,7 @@ def test_sweep_argument_errors():
 
 
 def test_evaluate_shapes_and_time():
-    plan = R.fourbar().compile()
+    plan = LB.fourbar().compile()
     s = plan.evaluate(1.0, order=1)
     assert s.position("C").shape == (1, 2)
     x = [1.0, 1.5, 2.0]
@@ -122,7 +123,7 @@ def test_evaluate_shapes_and_time():
 
 # -- link angles -----------------------------------------------------------------------------------
 def test_link_angles_are_first_to_second_joint_and_unwrapped():
-    lk = R.fourbar(crank=60, coupler=110, rocker=100, ground=30, theta0=160, rpm=-45.0)  # drag link
+    lk = LB.fourbar(crank=60, coupler=110, rocker=100, ground=30, theta0=160, rpm=-45.0)  # drag link
     sol = lk.solve(samples=360)
     for link in lk.moving_links:
         a, b = lk.link(link).joints[:2]
@@ -133,7 +134,7 @@ def test_link_angles_are_first_to_second_joint_and_unwrapped():
         assert abs(ang[0] - math.atan2(*(np.subtract(lk.joint(b).at, lk.joint(a).at)[::-1]))) < 1e-13
     # a drag link: every link turns once, clockwise, over the revolution
     for link in lk.moving_links:
-        s = R.link_rotation(sol, lk, link)
+        s = CK.link_rotation(sol, lk, link)
         turns = np.unwrap(np.angle(s))
         total = turns[-1] - turns[0] + (turns[1] - turns[0])
         assert total == pytest.approx(-2 * math.pi, abs=0.05)
@@ -155,7 +156,7 @@ def test_coupler_point_moves_with_its_link():
     lk = example("fourbar_crank_rocker")
     sol = lk.solve(samples=90)
     E0, B0, C0 = (complex(*lk.joint(j).at) for j in "EBC")
-    B, C, E = (R._z(sol.position(j)) for j in "BCE")
+    B, C, E = (CK._z(sol.position(j)) for j in "BCE")
     expect = B + (C - B) * (E0 - B0) / (C0 - B0)
     assert np.max(np.abs(E - expect)) < 1e-12
     assert np.allclose(sol.point("coupler", lk.joint("E").at), sol.position("E"), atol=0)
@@ -181,12 +182,12 @@ def test_double_rocker_gap_is_nan_and_invalid_exactly_where_it_cannot_assemble()
         for f in ("angle", "omega", "alpha"):
             arr = getattr(sol, f)(link)
             assert np.isnan(arr[bad]).all() and np.isfinite(arr[~bad]).all(), (link, f)
-    assert R.closure_error(lk, sol) < 1e-12
+    assert CK.closure_error(lk, sol) < 1e-12
     assert np.isfinite(sol.residual()) and sol.residual() < 1e-12
 
 
 def test_slider_crank_that_cannot_turn_fully():
-    lk = R.slider_crank(crank=40.0, rod=30.0, offset=20.0, theta0=10.0)
+    lk = LB.slider_crank(crank=40.0, rod=30.0, offset=20.0, theta0=10.0)
     sol = lk.solve(samples=720)
     # B_y − e must stay within ±rod: sin θ ∈ [(e − rod)/r, (e + rod)/r] = [−0.25, 1.25]
     expect = np.sin(sol.input) >= -0.25
@@ -200,7 +201,7 @@ def test_transmission_angle_and_conditioning_of_the_crank_rocker():
     sol = lk.solve(samples=360)
     g = sol.groups[0].name
     mu = sol.transmission_angle(g)
-    B, C, D = (R._z(sol.position(j)) for j in "BCD")
+    B, C, D = (CK._z(sol.position(j)) for j in "BCD")
     expect = np.abs(np.angle((B - C) / (D - C)))
     assert np.allclose(mu, expect, atol=1e-13)
     assert np.allclose(sol.conditioning(g), np.sin(mu), atol=1e-13)
@@ -216,32 +217,32 @@ def test_transmission_angle_and_conditioning_of_the_crank_rocker():
 
 @pytest.mark.parametrize("case", ["slider", "inverted", "prp", "yoke"])
 def test_conditioning_of_other_kinds_is_the_sine_between_the_velocity_columns(case):
-    lk = {"slider": lambda: R.slider_crank(xi=150.0, pin=2 + 3j), "inverted": lambda: R.inverted_slider_crank(offset=7.0),
-          "prp": lambda: R.prp_linkage(), "yoke": lambda: R.scotch_yoke(slot=120.0, guide=200.0)}[case]()
+    lk = {"slider": lambda: LB.slider_crank(xi=150.0, pin=2 + 3j), "inverted": lambda: LB.inverted_slider_crank(offset=7.0),
+          "prp": lambda: LB.prp_linkage(), "yoke": lambda: LB.scotch_yoke(slot=120.0, guide=200.0)}[case]()
     sol = lk.solve(samples=90)
     g = sol.groups[0]
     c = sol.conditioning(g.name)
     ok = sol.valid
     if g.kind == "RRP":    # |cos(φ_rod − ξ)|
-        rod = R._z(sol.position(g.inner)) - R._z(sol.position(g.outer_i))
-        u = R.link_rotation(sol, lk, g.link_j) * R.e(lk.joint(g.outer_j).axis_deg)
+        rod = CK._z(sol.position(g.inner)) - CK._z(sol.position(g.outer_i))
+        u = CK.link_rotation(sol, lk, g.link_j) * LB.e(lk.joint(g.outer_j).axis_deg)
         expect = np.abs((np.conj(u) * rod).real) / np.abs(rod)
     elif g.kind == "RPR":  # |σ| (along-axis part of M − H) over the drawn size max(|M0 − H0|, |offset|)
-        d = R._z(sol.position(g.outer_i)) - R._z(sol.position(g.outer_j))
-        u = R.link_rotation(sol, lk, g.link_j) * R.e(lk.joint(g.inner).axis_deg)
+        d = CK._z(sol.position(g.outer_i)) - CK._z(sol.position(g.outer_j))
+        u = CK.link_rotation(sol, lk, g.link_j) * LB.e(lk.joint(g.inner).axis_deg)
         d0 = complex(*lk.joint(g.outer_i).at) - complex(*lk.joint(g.outer_j).at)
-        off = (np.conj(R.e(lk.joint(g.inner).axis_deg)) * d0).imag
+        off = (np.conj(LB.e(lk.joint(g.inner).axis_deg)) * d0).imag
         expect = np.minimum(np.abs((np.conj(u) * d).real) / max(abs(d0), abs(off)), 1.0)
     else:                  # |sin| between the two slide axes
         first = (g.known_i, g.outer_i) if g.kind == "PRP" else (g.link_j, g.inner)
-        ua = R.link_rotation(sol, lk, first[0]) * R.e(lk.joint(first[1]).axis_deg)
-        ub = R.link_rotation(sol, lk, g.known_j) * R.e(lk.joint(g.outer_j).axis_deg)
-        expect = np.abs(R.cross2_arr(ua, ub))
+        ua = CK.link_rotation(sol, lk, first[0]) * LB.e(lk.joint(first[1]).axis_deg)
+        ub = CK.link_rotation(sol, lk, g.known_j) * LB.e(lk.joint(g.outer_j).axis_deg)
+        expect = np.abs(CK.cross2_arr(ua, ub))
     assert np.allclose(np.broadcast_to(c, expect.shape)[ok], expect[ok], atol=1e-13)
 
 
 def test_compile_plan_is_the_same_as_linkage_compile():
-    lk = R.fourbar()
+    lk = LB.fourbar()
     a, b = compile_plan(lk), lk.compile()
     x = np.linspace(0, 6, 7)
     assert np.array_equal(a.evaluate(x).position("C"), b.evaluate(x).position("C"))
@@ -254,7 +255,7 @@ def test_valid_samples_are_finite(case):
     RRR's outer joints exactly coincident: direction 0/0; lengths of 1e154 mm: squares overflow),
     the sample is reported as not assembled rather than as a valid NaN pose."""
     if case == "outer joints coincide":   # crank = ground: drawn with the crank pin B exactly on D
-        lk = R.build("rhombus", [("A", "R", (0.0, 0.0)), ("B", "R", (60.0, 0.0)), ("C", "R", (90.0, 51.9615242)),
+        lk = LB.build("rhombus", [("A", "R", (0.0, 0.0)), ("B", "R", (60.0, 0.0)), ("C", "R", (90.0, 51.9615242)),
                                  ("D", "R", (60.0, 0.0))],
                      {"ground": ["A", "D"], "crank": ["A", "B"], "coupler": ["B", "C"], "rocker": ["D", "C"]},
                      "ground", "crank", "A")
@@ -262,7 +263,7 @@ def test_valid_samples_are_finite(case):
         assert list(sol.valid) == [False, True]
     else:
         from dataclasses import replace
-        lk = R.fourbar()
+        lk = LB.fourbar()
         lk = replace(lk, joints=tuple(j.moved((j.at[0] * 1e154, j.at[1] * 1e154)) for j in lk.joints))
         sol = lk.solve(samples=12)
     for j in lk.joint_ids:
@@ -278,7 +279,7 @@ def test_residual_sees_a_stretched_link(monkeypatch):
     kernel computing a wrong L would), so only the links' rigidity shows it."""
     from mechsketch.core.solver import kernels
 
-    lk = R.fourbar()
+    lk = LB.fourbar()
     m0, h0, l0 = (complex(*lk.joint(j).at) for j in "BDC")
     real = kernels.rrr
 
@@ -291,5 +292,5 @@ def test_residual_sees_a_stretched_link(monkeypatch):
         return out
     monkeypatch.setattr(kernels, "rrr", stretched)
     sol = lk.solve(samples=36)
-    assert R.closure_error(lk, sol) > 1e-4            # 140 mm · 1e-6
+    assert CK.closure_error(lk, sol) > 1e-4            # 140 mm · 1e-6
     assert sol.residual() > 1e-4

@@ -3,8 +3,8 @@ anything, would make every solver test worthless.
 
 * the 50-digit reference's rates equal high-precision differences of its own position solve;
 * its positions satisfy every constraint to ~1e-45 and keep every link rigid;
-* :func:`reference.closure_error`, :func:`reference.compare` and the FD check flag small,
-  deliberate corruptions of a correct solution.
+* :func:`solution_checks.closure_error`, :func:`reference.compare` and the FD check
+  (:func:`solution_checks.fd_errors`) flag small, deliberate corruptions of a correct solution.
 """
 from __future__ import annotations
 
@@ -14,16 +14,18 @@ import mpmath
 import numpy as np
 import pytest
 
+import linkage_builders as LB
 import reference as R
+import solution_checks as CK
 
 LINKAGES = {
-    "fourbar": lambda: R.fourbar(mode=-1, theta0=135.0),
-    "slider pin offset": lambda: R.slider_crank(xi=150.0, pin=-4 + 6j, theta0=200.0),
-    "inverted offset": lambda: R.inverted_slider_crank(offset=8.0, q_along=12.0),
-    "prp": lambda: R.prp_linkage(guide_offset=7.0),
-    "yoke inclined": lambda: R.scotch_yoke(slot=120.0, guide=200.0),
-    "moving guide": lambda: R.sixbar_guide(-1),
-    "guide on driver": lambda: R.crank_guided(pin=(5.0, -6.0)),
+    "fourbar": lambda: LB.fourbar(mode=-1, theta0=135.0),
+    "slider pin offset": lambda: LB.slider_crank(xi=150.0, pin=-4 + 6j, theta0=200.0),
+    "inverted offset": lambda: LB.inverted_slider_crank(offset=8.0, q_along=12.0),
+    "prp": lambda: LB.prp_linkage(guide_offset=7.0),
+    "yoke inclined": lambda: LB.scotch_yoke(slot=120.0, guide=200.0),
+    "moving guide": lambda: LB.sixbar_guide(-1),
+    "guide on driver": lambda: LB.crank_guided(pin=(5.0, -6.0)),
 }
 
 
@@ -69,7 +71,7 @@ def test_reference_positions_close_to_50_digits(name):
         for link in ref.unknown:
             q += list(st.pose[link])
         res = ref.residual(q, mpmath.mpf(float(sol.input[7])) - ref.theta0)
-        assert max(abs(v) for v in res) < mpmath.mpf("1e-44") * R.size_of(lk)
+        assert max(abs(v) for v in res) < mpmath.mpf("1e-44") * LB.size_of(lk)
         for link in lk.links:   # every link rigid at 50 digits
             pts = [st.point(link.id, lk.joint(j).at)[0] for j in link.joints]
             for a, ja in zip(pts, link.joints):
@@ -101,30 +103,30 @@ class _Corrupt:
 
 
 def test_closure_check_catches_a_stretched_link():
-    lk = R.fourbar()
+    lk = LB.fourbar()
     sol = lk.solve(samples=90)
-    assert R.closure_error(lk, sol) < 1e-12
-    size = R.size_of(lk)
+    assert CK.closure_error(lk, sol) < 1e-12
+    size = LB.size_of(lk)
 
     def stretch(p):   # points of the coupler 1 µm further from the origin
         return p * (1 + 1e-6 / 200)
     bad = _Corrupt(sol, "point", "coupler", stretch)
-    assert R.closure_error(lk, bad) > 1e-8
+    assert CK.closure_error(lk, bad) > 1e-8
     # a consistent error in every link's frame that is not a rigid motion is also caught
     bad = _Corrupt(sol, "point", "rocker", lambda p: p[:, ::-1])   # mirrored
-    assert R.closure_error(lk, bad) > 1e-3 * size
+    assert CK.closure_error(lk, bad) > 1e-3 * size
 
 
 def test_closure_check_catches_a_P_joint_leaving_its_axis():
-    lk = R.slider_crank(xi=90.0)
+    lk = LB.slider_crank(xi=90.0)
     sol = lk.solve(samples=90)
-    assert R.closure_error(lk, sol) < 1e-12
+    assert CK.closure_error(lk, sol) < 1e-12
     bad = _Corrupt(sol, "point", "slider", lambda p: p + np.array([1e-7, 0.0]))
-    assert R.closure_error(lk, bad) > 5e-8
+    assert CK.closure_error(lk, bad) > 5e-8
 
 
 def test_compare_catches_small_rate_errors():
-    lk = R.slider_crank(pin=2 + 3j)
+    lk = LB.slider_crank(pin=2 + 3j)
     sol = lk.solve(samples=36)
     pick = [3, 11, 20]
     good = R.relative(R.compare(lk, sol, pick))
@@ -137,10 +139,10 @@ def test_compare_catches_small_rate_errors():
 
 
 def test_fd_check_catches_a_wrong_velocity():
-    lk = R.fourbar()
+    lk = LB.fourbar()
     plan = lk.compile()
     inputs = plan.sweep(24).input
-    assert R.fd_errors(plan, inputs)[:2] == (0, 0)
+    assert CK.fd_errors(plan, inputs)[:2] == (0, 0)
 
     class Bent:   # the plan, with velocities of the rocker 1e-6 too large
         def __init__(self, p):
@@ -149,12 +151,12 @@ def test_fd_check_catches_a_wrong_velocity():
         def evaluate(self, x, order=2):
             return _Corrupt(self.p.evaluate(x, order=order), "point_velocity", "rocker",
                             lambda v: v * (1 + 1e-6))
-    bad_v, bad_a, checked, sharp, _ = R.fd_errors(Bent(plan), inputs)
+    bad_v, bad_a, checked, sharp, _ = CK.fd_errors(Bent(plan), inputs)
     assert checked == sharp == 24 and bad_v == 24
 
 
 def test_continuation_reproduces_drawn_pose_and_stops_at_limits():
-    lk = R.fourbar(crank=90, coupler=95, rocker=85, ground=110, theta0=90.0, mode=-1)
+    lk = LB.fourbar(crank=90, coupler=95, rocker=85, ground=110, theta0=90.0, mode=-1)
     sol = lk.solve(samples=72)
     poses, ref = R.continuation(lk, sol.input)
     c = R.continuation_point(ref, poses, "coupler", lk.joint("C").at)

@@ -7,7 +7,8 @@ from dataclasses import replace
 
 import pytest
 
-import reference as R
+import linkage_builders as LB
+import solution_checks as CK
 from mechsketch.core import StructureError, load_scene
 from mechsketch.core.solver.structure import decompose, joint_count, mobility
 from mechsketch.resources import example_path
@@ -34,7 +35,7 @@ def test_examples_decompose(name, groups):
 
 
 def test_joint_count_counts_a_compound_hinge_once_per_extra_link():
-    lk = R.two_dyads()          # B on crank, coupler and rod
+    lk = LB.two_dyads()          # B on crank, coupler and rod
     assert joint_count(lk) == 1 + 2 + 1 + 1 + 1 + 1   # A, B(×2), C, D, E, S
     assert mobility(lk) == 3 * (6 - 1) - 2 * 7 == 1
     coupler_point = lk.with_joint(lk.joint("A").__class__("P1", lk.joint("A").kind, (50.0, 50.0)))
@@ -43,9 +44,9 @@ def test_joint_count_counts_a_compound_hinge_once_per_extra_link():
 
 
 @pytest.mark.parametrize("builder,kinds", [
-    (R.prp_linkage, ["PRP"]), (R.scotch_yoke, ["RPP"]), (R.crank_guided, ["RRP"]),
-    (lambda: R.sixbar_stephenson(on_rocker=True, f=(150.0, 60.0)), ["RRR", "RRR"]),
-    (R.two_dyads, ["RRR", "RRP"]),
+    (LB.prp_linkage, ["PRP"]), (LB.scotch_yoke, ["RPP"]), (LB.crank_guided, ["RRP"]),
+    (lambda: LB.sixbar_stephenson(on_rocker=True, f=(150.0, 60.0)), ["RRR", "RRR"]),
+    (LB.two_dyads, ["RRR", "RRP"]),
 ])
 def test_kinds_of_the_test_linkages(builder, kinds):
     assert [g.kind for g in decompose(builder())] == kinds
@@ -54,15 +55,15 @@ def test_kinds_of_the_test_linkages(builder, kinds):
 def test_dyad_hanging_on_a_compound_inner_joint():
     """Regression: the slider rod pinned at C (on coupler, rocker and rod) used to be reported
     as a higher-class group."""
-    lk = R.sixbar_compound()
+    lk = LB.sixbar_compound()
     gs = decompose(lk)
     assert [(g.kind, g.link_i, g.link_j, g.inner) for g in gs] == [
         ("RRR", "coupler", "rocker", "C"), ("RRP", "rod", "slider", "E")]
     assert gs[1].outer_i == "C" and gs[1].known_i in ("coupler", "rocker")
 
 
-@pytest.mark.parametrize("builder", [R.slider_crank, R.scotch_yoke, R.inverted_slider_crank, R.prp_linkage,
-                                     lambda: R.sixbar_guide(-1), R.sixbar_compound])
+@pytest.mark.parametrize("builder", [LB.slider_crank, LB.scotch_yoke, LB.inverted_slider_crank, LB.prp_linkage,
+                                     lambda: LB.sixbar_guide(-1), LB.sixbar_compound])
 def test_decomposition_does_not_depend_on_the_file_order_of_links(builder):
     lk = builder()
     ref = {(g.kind, frozenset((g.link_i, g.link_j)), g.inner) for g in decompose(lk)}
@@ -76,16 +77,16 @@ def test_decomposition_does_not_depend_on_the_file_order_of_links(builder):
 
 
 def test_reversed_slider_listing_is_mirrored_to_rrp():
-    lk = R.slider_crank()
+    lk = LB.slider_crank()
     lk = replace(lk, links=tuple(lk.link(k) for k in ("ground", "crank", "slider", "rod")))
     (g,) = decompose(lk)
     assert (g.kind, g.link_i, g.link_j, g.outer_i, g.outer_j) == ("RRP", "rod", "slider", "B", "S")
     sol = lk.solve(samples=36)
-    assert R.closure_error(lk, sol) < 1e-12
+    assert CK.closure_error(lk, sol) < 1e-12
 
 
 def test_ppp_group_is_refused_naming_its_joints():
-    lk = R.build("ppp", [("A", "R", (0, 0)), ("Q1", "P", (30, 10), 20.0), ("Q3", "P", (40, 30), 80.0),
+    lk = LB.build("ppp", [("A", "R", (0, 0)), ("Q1", "P", (30, 10), 20.0), ("Q3", "P", (40, 30), 80.0),
                          ("Q2", "P", (60, 40), 150.0)],
                  {"ground": ["A", "Q2"], "crank": ["A", "Q1"], "b1": ["Q1", "Q3"], "b2": ["Q3", "Q2"]},
                  "ground", "crank", "A")
@@ -97,7 +98,7 @@ def test_ppp_group_is_refused_naming_its_joints():
 
 
 def test_under_constrained_five_bar():
-    lk = R.build("fivebar", [("A", "R", (0, 0)), ("B", "R", (20, 30)), ("C", "R", (70, 60)), ("D", "R", (120, 40)),
+    lk = LB.build("fivebar", [("A", "R", (0, 0)), ("B", "R", (20, 30)), ("C", "R", (70, 60)), ("D", "R", (120, 40)),
                              ("E", "R", (140, 0))],
                  {"ground": ["A", "E"], "crank": ["A", "B"], "l2": ["B", "C"], "l3": ["C", "D"], "l4": ["D", "E"]},
                  "ground", "crank", "A")
@@ -109,7 +110,7 @@ def test_under_constrained_five_bar():
 
 
 def test_over_constrained_four_bar_with_a_diagonal():
-    lk = R.fourbar()
+    lk = LB.fourbar()
     lk = lk.with_link(lk.link("coupler").__class__("diag", ("B", "D")))
     assert mobility(lk) == 0
     with pytest.raises(StructureError, match="over-constrained") as info:
@@ -119,7 +120,7 @@ def test_over_constrained_four_bar_with_a_diagonal():
 
 
 def test_class_three_group_is_reported_with_its_joints_and_links():
-    lk = R.class3()
+    lk = LB.class3()
     assert mobility(lk) == 1
     with pytest.raises(StructureError, match="class-II") as info:
         decompose(lk)
@@ -134,14 +135,14 @@ def test_class_three_group_is_reported_with_its_joints_and_links():
 
 def test_class_three_after_a_dyad_names_only_the_rest():
     """A four-bar whose rocker drives a triad: the dyad is solved, the triad reported."""
-    fb = R.fourbar()
+    fb = LB.fourbar()
     X1, X2, X3, G2, G3 = (170, 150), (230, 170), (210, 110), (260, 240), (280, 60)
     joints = [(j.id, "R", j.at) for j in fb.joints] + [("X1", "R", X1), ("X2", "R", X2), ("X3", "R", X3),
                                                       ("G2", "R", G2), ("G3", "R", G3)]
     links = {k.id: list(k.joints) for k in fb.links}
     links["ground"] += ["G2", "G3"]
     links.update(b1=["C", "X1"], b2=["G2", "X2"], b3=["G3", "X3"], tri=["X1", "X2", "X3"])
-    lk = R.build("fb3", joints, links, "ground", "crank", "A")
+    lk = LB.build("fb3", joints, links, "ground", "crank", "A")
     assert mobility(lk) == 1
     with pytest.raises(StructureError) as info:
         decompose(lk)
@@ -157,4 +158,4 @@ def test_class_three_after_a_dyad_names_only_the_rest():
 ])
 def test_bad_drivers_built_in_code_are_structure_errors(mutate, match):
     with pytest.raises(StructureError, match=match):
-        decompose(mutate(R.fourbar()))
+        decompose(mutate(LB.fourbar()))
