@@ -210,12 +210,8 @@ class AnimationPlayer(QObject):
         return self._masks
 
     def period(self) -> float:
-        """Seconds per driver revolution (of the first solved linkage)."""
-        for lk in self.controller.linkages():
-            res = self.controller.result(lk.id)
-            if res is not None and res.solution is not None and lk.driver.speed_rpm:
-                return 60.0 / abs(lk.driver.speed_rpm)
-        return 1.0
+        """Seconds per animation cycle at 1x (the controller's cycle period)."""
+        return self.controller.cycle_period()
 
     # -- stepping ---------------------------------------------------------------------------------
     def _tick(self) -> None:

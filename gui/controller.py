@@ -6,6 +6,7 @@ command. Signals are past tense and fire once the document and its solutions are
 """
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -20,6 +21,7 @@ from mechsketch.core.model.scene import Scene
 from mechsketch.core.solver.diagnostics import Diagnostics, diagnose
 from mechsketch.core.solver.plan import Plan, Solution
 
+from .canvas.pose import map_frame
 from .element_results import ElementResult, ResultCache
 
 DEFAULT_SAMPLES = 360
@@ -207,6 +209,33 @@ class SceneController(QObject):
             if e.n_frames:
                 return e.n_frames
         return 0
+
+    def cycle_period(self) -> float:
+        """Seconds per animation cycle: the first solved linkage's driver revolution, else the
+        first animated Geneva drive's crank revolution (a rolling lever: a nominal 2 s)."""
+        for lk in self.linkages():
+            res = self.result(lk.id)
+            if res is not None and res.solution is not None and lk.driver.speed_rpm:
+                return 60.0 / abs(lk.driver.speed_rpm)
+        for e in self._element_results.values():
+            if e.n_frames:
+                return float(e.period)
+        return 1.0
+
+    def frame_text(self) -> tuple[str, bool]:
+        """The current frame in words for the read-outs, and whether it can be assembled."""
+        n, frame = self.sample_count(), self.frame
+        for lk in self.linkages():
+            res = self.result(lk.id)
+            if res is not None and res.solution is not None:
+                sol = res.solution
+                k = map_frame(frame, n, len(sol))
+                deg = math.degrees(math.remainder(float(sol.input[k]), 2 * math.pi))
+                return f"input {deg:.2f}°  t {float(sol.t[k]):.3f} s  frame {frame + 1}/{n}", bool(sol.valid[k])
+        for e in self._element_results.values():
+            if e.n_frames:
+                return f"{e.element_id}: {e.frame_text(map_frame(frame, n, e.n_frames))}  frame {frame + 1}/{n}", True
+        return "nothing to animate", True
 
     # -- solving ----------------------------------------------------------------------------
     def _changed(self) -> None:

@@ -47,14 +47,6 @@ CACHE_SIZE = 16
 ELEMENT = "element"
 
 
-def map_frame(frame: int, n_frames: int, n: int) -> int:
-    """The sample of an element with ``n`` frames shown at global frame ``frame`` of ``n_frames``
-    (the same cycle-phase mapping the canvas uses for linkages of different sample counts)."""
-    if n_frames <= 0 or n == n_frames:
-        return frame % max(n, 1)
-    return int(round(frame * n / n_frames)) % n
-
-
 def _message(exc: BaseException) -> str:
     return str(exc).strip() or type(exc).__name__
 
@@ -95,6 +87,16 @@ class GenevaResult:
     def n_frames(self) -> int:
         """Frames of the animation cycle (0 when nothing can be animated)."""
         return len(self.crank_rotation) if self.geometry is not None else 0
+
+    @property
+    def period(self) -> float:
+        """Seconds per crank revolution (one animation cycle)."""
+        return 60.0 / abs(self.element.speed_rpm)
+
+    def frame_text(self, k: int) -> str:
+        """Read-out of frame ``k``: crank angle and time."""
+        kin = self.kinematics
+        return f"crank φ {math.degrees(kin.phi[k]):.1f}°  t {float(kin.t[k]):.3f} s"
 
     def phi_deg(self) -> np.ndarray:
         """Crank angle φ of every sample (°, from the line of centres, time order)."""
@@ -200,6 +202,16 @@ class RollingResult:
     @property
     def n_frames(self) -> int:
         return len(self.frames) if self.frames is not None else 0
+
+    #: the element has no speed: its animation cycle (the stroke there and back, or one crank
+    #: turn with a drive) is shown in this many seconds at 1x
+    period = 2.0
+
+    def frame_text(self, k: int) -> str:
+        """Read-out of frame ``k``: lever rotation (and crank angle with a drive)."""
+        f = self.frames
+        text = f"lever θ {math.degrees(f.theta[k]):.2f}°"
+        return text if f.phi is None else f"crank φ {math.degrees(f.phi[k]):.1f}°  {text}"
 
     def summary(self) -> str:
         """What ``mechsketch synthesize SCENE --element ID --summary`` prints."""

@@ -8,7 +8,6 @@ so the window can be built with stand-ins.
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable
@@ -22,7 +21,7 @@ from mechsketch.core import ExportError
 from .autosave import Autosave
 from .controller import SceneController
 from .dialogs import DialogService
-from .element_results import ELEMENT, GenevaResult, map_frame
+from .element_results import ELEMENT
 from .export_worker import DxfExporter, ExportStatus, exportable
 from .file_ops import FileOps
 from .panels.diagnostics import DiagnosticsPanel
@@ -262,21 +261,8 @@ class MainWindow(QMainWindow):
         self.show_message(f"{element_id}: {message}")
 
     def _update_frame(self, _frame: int = 0) -> None:
-        frame = self.controller.frame
-        for res in self.controller.results().values():
-            if res.solution is not None and frame < len(res.solution):
-                deg = math.degrees(res.solution.input[frame]) % 360.0
-                self.frame_label.setText(f"input {deg:.1f}° (frame {frame + 1}/{len(res.solution)})")
-                return
-        total = self.controller.sample_count()
-        for er in self.controller.element_results().values():
-            if er.n_frames:
-                k = map_frame(frame, total, er.n_frames)
-                what = (f"crank φ {math.degrees(er.kinematics.phi[k]):.1f}°" if isinstance(er, GenevaResult)
-                        else f"lever θ {math.degrees(er.frames.theta[k]):.2f}°")
-                self.frame_label.setText(f"{er.element_id}: {what} (frame {frame + 1}/{total})")
-                return
-        self.frame_label.setText("")
+        text, _ok = self.controller.frame_text()
+        self.frame_label.setText("" if self.controller.sample_count() == 0 else text)
 
     # -- commands ----------------------------------------------------------------------------
     def _export(self, title: str, suffix: str, filt: str, write: Callable[[str], None]) -> bool:

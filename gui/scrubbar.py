@@ -21,7 +21,7 @@ from PySide6.QtGui import QColor, QMouseEvent, QPainter, QPen, QPolygonF
 from PySide6.QtWidgets import QComboBox, QHBoxLayout, QLabel, QSizePolicy, QToolButton, QToolTip, QWidget
 
 from .animation import SPEEDS, AnimationPlayer
-from .canvas.pose import dead_samples, map_frame, walk_to
+from .canvas.pose import dead_samples, walk_to
 
 GROOVE = QColor("#e3e6eb")
 GROOVE_EDGE = QColor("#b8bec8")
@@ -89,7 +89,7 @@ class ScrubTrack(QWidget):
         p.drawRoundedRect(groove, 3, 3)
         if n == 0 or valid is None:
             p.setPen(QColor("#6b7280"))
-            p.drawText(self.rect(), Qt.AlignmentFlag.AlignCenter, "no solved linkage")
+            p.drawText(self.rect(), Qt.AlignmentFlag.AlignCenter, "nothing to animate")
             return
         bad = ~valid
         if bad.any():
@@ -194,18 +194,7 @@ class ScrubBar(QWidget):
             self.dead_box.setCurrentIndex(want)
 
     def _readout(self, *_args) -> None:
-        ctl = self.controller
-        n = ctl.sample_count()
-        for lk in ctl.linkages():
-            res = ctl.result(lk.id)
-            if res is not None and res.solution is not None:
-                sol = res.solution
-                k = map_frame(ctl.frame, n, len(sol))
-                deg = math.degrees(math.remainder(float(sol.input[k]), 2 * math.pi))
-                self.readout.setText(f"input {deg:.2f}°  t {float(sol.t[k]):.3f} s  {ctl.frame + 1}/{n}")
-                ok = bool(sol.valid[k])
-                self.readout.setStyleSheet("" if ok else "color: #d62728")
-                self.readout.setToolTip("" if ok else "the linkage cannot be assembled at this input")
-                return
-        self.readout.setText("no solved linkage")
-        self.readout.setStyleSheet("")
+        text, ok = self.controller.frame_text()
+        self.readout.setText(text)
+        self.readout.setStyleSheet("" if ok else "color: #d62728")
+        self.readout.setToolTip("" if ok else "the mechanism cannot be assembled at this input")

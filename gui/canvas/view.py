@@ -29,7 +29,8 @@ from PySide6.QtWidgets import QGraphicsScene, QGraphicsView, QWidget
 from mechsketch.core.model.edits import RemoveElement
 from mechsketch.core.model.linkage import JointKind, Linkage
 
-from ..element_results import ELEMENT, GenevaResult, map_frame
+from ..element_results import ELEMENT, GenevaResult
+from .pose import map_frame
 from .events import XY, CanvasEvent, Hit
 from .geneva_items import GenevaItem
 from .items import DeadPointItem, LinkageItem, OverlayItem, TraceItem

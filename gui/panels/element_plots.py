@@ -19,7 +19,8 @@ import numpy as np
 from mechsketch.core.io.table import Table
 
 from ..controller import SceneController
-from ..element_results import GenevaResult, RollingResult, element_target, map_frame
+from ..canvas.pose import map_frame
+from ..element_results import GenevaResult, RollingResult, element_target
 from .plots import PlotData, Series
 
 GENEVA_ROWS = (("angle", "wheel angle (°)"), ("omega", "ω (rad/s)"), ("alpha", "α (rad/s²)"),

@@ -252,3 +252,17 @@ def test_with_a_linkage_the_drive_follows_by_cycle_phase(shell):
     c.set_selection([("indexer", "element", "indexer")])   # selecting the drive plots it
     assert "wheel.ω" in parts.window.plots.curves
     assert parts.window.plots.cursor_x() == pytest.approx(math.degrees(kin.phi[900]))
+
+
+def test_a_geneva_scene_animates_at_its_crank_speed_and_reads_out_the_crank_angle(shell):
+    """The scrub bar and the status bar read the Geneva's own frames; 1x plays one crank
+    revolution in 60/rpm seconds (not in a nominal second)."""
+    parts, c, _ = _open(shell, "geneva_z6")
+    el = next(e for e in c.scene.elements if isinstance(e, Geneva))
+    assert c.cycle_period() == pytest.approx(60.0 / abs(el.speed_rpm))
+    kin = el.kinematics()
+    c.set_frame(900)
+    text, ok = c.frame_text()
+    assert ok and f"crank φ {math.degrees(kin.phi[900]):.1f}°" in text and "frame 901/3600" in text
+    assert f"t {kin.t[900]:.3f} s" in text
+    assert text in parts.window.frame_label.text()
