@@ -165,20 +165,23 @@ class ScrubBar(QWidget):
         self.speed_box.setToolTip("animation speed (1x: the driver's rpm in real time)")
         self.speed_box.currentIndexChanged.connect(lambda i: player.set_speed(self.speed_box.itemData(i)))
         self.dead_box = QComboBox(self)
-        self.dead_box.addItem("stop at dead points", "stop")
-        self.dead_box.addItem("reverse at dead points", "reverse")
+        self.dead_box.addItem("stop at dead pts", "stop")
+        self.dead_box.addItem("reverse at dead pts", "reverse")
         self.dead_box.setToolTip("what the animation does at a dead point or the limit of its range")
         self.dead_box.setCurrentIndex(1 if player.dead_point_behaviour == "reverse" else 0)
         self.dead_box.currentIndexChanged.connect(
             lambda i: player.set_dead_point_behaviour(self.dead_box.itemData(i)))
         self.readout = QLabel(self)
-        self.readout.setFixedWidth(self.readout.fontMetrics().horizontalAdvance(
-            "input -180.00°  t 000.000 s  3600/3600") + 12)
+        # the read-out gives way when the window is narrow (the status bar repeats it in full), so
+        # the scrub bar never squeezes the docks
+        self.readout.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Preferred)
+        self.readout.setMinimumWidth(0)
         for w in (self.play_button, self.direction_button):
             lay.addWidget(w)
-        lay.addWidget(self.track, 1)
-        for w in (self.speed_box, self.dead_box, self.readout):
+        lay.addWidget(self.track, 3)
+        for w in (self.speed_box, self.dead_box):
             lay.addWidget(w)
+        lay.addWidget(self.readout, 2)
         player.settingsChanged.connect(self._settings)
         controller.frameChanged.connect(self._readout)
         controller.solutionsChanged.connect(self._readout)
