@@ -178,7 +178,7 @@ class ScrubBar(QWidget):
         self.readout.setMinimumWidth(0)
         for w in (self.play_button, self.direction_button):
             lay.addWidget(w)
-        lay.addWidget(self.track, 3)
+        lay.addWidget(self.track, 4)
         for w in (self.speed_box, self.dead_box):
             lay.addWidget(w)
         lay.addWidget(self.readout, 2)
