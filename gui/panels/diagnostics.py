@@ -15,6 +15,7 @@ from PySide6.QtWidgets import QTextBrowser, QVBoxLayout, QWidget
 from mechsketch.core.model.linkage import Linkage
 
 from ..controller import SceneController
+from .lazy import LazyRefresh
 
 
 def diagnostics_lines(controller: SceneController) -> list[tuple[str, str]]:
@@ -57,7 +58,7 @@ def _element_lines(controller: SceneController, el) -> list[tuple[str, str]]:
     return out
 
 
-class DiagnosticsPanel(QWidget):
+class DiagnosticsPanel(LazyRefresh, QWidget):
     """Read-only text of :func:`diagnostics_lines`, refreshed when the solutions change."""
 
     def __init__(self, controller: SceneController, parent: QWidget | None = None) -> None:
@@ -72,16 +73,6 @@ class DiagnosticsPanel(QWidget):
         self._stale = True
         controller.solutionsChanged.connect(self._invalidate)
         self.refresh()
-
-    def _invalidate(self) -> None:
-        self._stale = True
-        if self.isVisible():
-            self.refresh()
-
-    def showEvent(self, event) -> None:  # noqa: N802 - Qt override
-        super().showEvent(event)
-        if self._stale:
-            self.refresh()
 
     def refresh(self) -> None:
         self._stale = False
@@ -98,6 +89,5 @@ class DiagnosticsPanel(QWidget):
 
     def plain_text(self) -> str:
         """What the panel shows, as plain text."""
-        if self._stale:
-            self.refresh()
+        self.refresh_if_stale()
         return self.text.toPlainText()

@@ -28,6 +28,7 @@ from mechsketch.core.io.table import Table, write_csv
 from mechsketch.core.model.linkage import Linkage
 
 from ..controller import SceneController
+from .lazy import LazyRefresh
 
 PLOTS = (("position", "position"), ("velocity", "velocity"), ("acceleration", "acceleration"),
          ("transmission", "transmission angle μ (°)"))
@@ -156,7 +157,7 @@ def robust_range(arrays: list[np.ndarray], tail: float = 0.5) -> tuple[float, fl
     return lo, hi if hi > lo else lo + 1.0
 
 
-class PlotsPanel(QWidget):
+class PlotsPanel(LazyRefresh, QWidget):
     """Docked kinematic plots with a cursor synced to ``controller.frame``."""
 
     def __init__(self, controller: SceneController, parent: QWidget | None = None) -> None:
@@ -222,16 +223,6 @@ class PlotsPanel(QWidget):
             self._header.addWidget(button)
 
     # -- updating ----------------------------------------------------------------------------
-    def _invalidate(self) -> None:
-        self._stale = True
-        if self.isVisible():
-            self.refresh()
-
-    def showEvent(self, event) -> None:  # noqa: N802 - Qt override
-        super().showEvent(event)
-        if self._stale:
-            self.refresh()
-
     def refresh(self) -> None:
         """Re-read the controller and redraw every curve."""
         self._stale = False
@@ -314,8 +305,7 @@ class PlotsPanel(QWidget):
 
     def export_png(self, path: str | os.PathLike, width: int = 1200) -> None:
         """Write the plots as a PNG image (atomic); raises :class:`ExportError` naming the path."""
-        if self._stale:
-            self.refresh()
+        self.refresh_if_stale()
         target = Path(path)
         exporter = ImageExporter(self.graphics.scene())
         exporter.parameters()["width"] = int(width)

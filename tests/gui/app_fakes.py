@@ -90,3 +90,20 @@ def shell(qtbot, tmp_path):
         parts.dialogs.save_changes.clear()
         parts.dialogs.save_changes.append(DISCARD)
         parts.close()
+
+
+def type_into(qtbot, edit, text: str) -> None:
+    """Type ``text`` into a line edit as a user would (select all, type, Enter)."""
+    from PySide6.QtCore import Qt
+
+    edit.setFocus()
+    edit.selectAll()
+    qtbot.keyClicks(edit, text)
+    qtbot.keyClick(edit, Qt.Key.Key_Return)
+
+
+def open_example(shell, name: str):
+    """A fresh app with the example ``name`` opened from the Examples menu: (parts, controller, canvas)."""
+    parts = shell()
+    parts.window.actions[f"example:{name}"].trigger()
+    return parts, parts.controller, parts.window.canvas

@@ -17,19 +17,7 @@ from mechsketch.core.model.geneva import Geneva
 from mechsketch.gui.canvas.geneva_items import ARC_PIECE
 
 from app_fakes import shell  # noqa: F401 - fixture
-
-
-def _type(qtbot, edit, text):
-    edit.setFocus()
-    edit.selectAll()
-    qtbot.keyClicks(edit, text)
-    qtbot.keyClick(edit, Qt.Key.Key_Return)
-
-
-def _open(shell, name):
-    parts = shell()
-    parts.window.actions[f"example:{name}"].trigger()
-    return parts, parts.controller, parts.window.canvas
+from app_fakes import type_into as _type, open_example as _open
 
 
 def _subpaths(path):

@@ -14,13 +14,7 @@ from mechsketch.core.solver.flip import flip_group, group_modes
 from mechsketch.gui.panels.properties import length_edit_moves
 
 from app_fakes import shell  # noqa: F401 - fixture
-
-
-def _type(qtbot, edit, text):
-    edit.setFocus()
-    edit.selectAll()
-    qtbot.keyClicks(edit, text)
-    qtbot.keyClick(edit, Qt.Key.Key_Return)
+from app_fakes import type_into as _type
 
 
 def test_typing_a_joint_coordinate_is_one_undo_command(shell, qtbot):
