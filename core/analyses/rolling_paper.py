@@ -25,6 +25,8 @@ import numpy as np
 from ..errors import GeometryError
 from .rolling_geometry import LeverGeometry, lever_map, pair_e, slider_point
 
+_EPS = float(np.finfo(float).eps)
+
 
 @dataclass
 class Construction:
@@ -123,6 +125,7 @@ def corrected(geom: LeverGeometry, start: tuple[float, float], u_start: float, u
             t, a = th_lit[1], a_lit[1]
         else:
             t, a = 2.0 * th[k - 1] - th[k - 2], 2.0 * al[k - 1] - al[k - 2]
+        prev = math.inf
         for _ in range(50):
             ca, sa, ct, st = math.cos(a), math.sin(a), math.cos(t), math.sin(t)
             rx, ry = ct * px - st * py, st * px + ct * py
@@ -145,8 +148,12 @@ def corrected(geom: LeverGeometry, start: tuple[float, float], u_start: float, u
             dt = -(j11 * r2 - j21 * r1) / det
             a += da
             t += dt
-            if abs(da) + abs(dt) < 1e-15:
+            step = abs(da) + abs(dt)
+            if step <= 4.0 * _EPS * (1.0 + abs(a) + abs(t)):  # round-off level of (α, θ)
                 break
+            if step >= 0.5 * prev and max(abs(r1), abs(r2)) <= 1e-12 * geom.scale:
+                break  # stalled at round-off (the system is ill-conditioned near the range end)
+            prev = step
         else:
             raise GeometryError(f"the corrected construction did not converge at step {k} of {n} (θ ≈ {t:.6f} rad): "
                                 "no pose puts π_k on the rocker line there, as happens close to the end of the "
