@@ -11,10 +11,15 @@ any θ (the N + 1 output samples, DXF fitting, projections) come from the dense 
 what the integrator would have computed for a step ending there, so no less accurate than the mesh.
 
 The working range ends where the rocker line becomes tangent to the moved lever circle (the
-discriminant of pair D reaches 0: the paper's π6 for the *moved* lever), where the contact would
-pass behind the rocker pivot, or where the normal to the slider axis leaves the slider circle.
-:func:`working_range` finds both ends by marching with plain RK4 steps and halving the step at the
-boundary (the end is placed to about 1e-8 rad; the square-root singularity there is not worth more).
+discriminant of pair D reaches 0: the paper's π6 for the *moved* lever), where the contact reaches
+the pin (only with the pin on the lever circle), where the contact would pass behind the rocker
+pivot (pair D's ends are fixed rocker directions in the lever frame, found in closed form, see
+:func:`~.rolling_geometry.pair_d_limits`), or where the normal to the slider axis leaves the slider
+circle. :func:`working_range` finds both ends by marching with plain RK4 steps and halving the step
+at the boundary (about 1e-8 rad); an end of pair D, where the fixed steps lose ~1e-7 rad in the
+square-root singularity, is then placed by a quadrature over ψ to about 1e-9 rad. A stroke whose
+integration stops before the end the march found is refused with the nearer of the two ends,
+never with a range contradicting it.
 """
 from __future__ import annotations
 
@@ -24,13 +29,18 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import GeometryError
-from .rolling_geometry import LeverGeometry, ScalarKernel, rot
+from .rolling_geometry import LeverGeometry, ScalarKernel, contact_distance, rot
 
 #: a lever rotation beyond one turn is never searched for a working-range end (rad)
 SEARCH_CAP = 2.0 * math.pi
 #: marching step and final resolution of the working-range search (rad)
 _LIMIT_STEP = 0.02
 _LIMIT_RESOLUTION = 1e-12
+#: after the first failed step, good steps in a row before the step is halved anyway
+_LIMIT_PATIENCE = 8
+#: a pair-D end is placed from the state this many steps before the first failed one
+_LIMIT_BACK = 16
+_END_X, _END_W = np.polynomial.legendre.leggauss(40)
 
 
 class _OutOfRange(Exception):
@@ -139,15 +149,22 @@ def march_limit(geom: LeverGeometry, theta: float, alpha: float, s5: float, dire
                 ) -> tuple[float, str | None]:
     """March from the state (θ, α, S5) in ``direction`` (±1) to the end of the working range.
 
-    Plain RK4 steps of ``_LIMIT_STEP`` rad (α error ~1e-9 rad, enough to place the end), halved
-    each time a step would leave the range, down to ``_LIMIT_RESOLUTION``. Returns (θ_end, reason);
-    the reason is None if no end was met within |θ| ≤ 2π.
+    Plain RK4 steps of ``_LIMIT_STEP`` rad (α error ~1e-9 rad), halved each time a step would
+    leave the range, down to ``_LIMIT_RESOLUTION``. Once a step has failed, the step is also halved
+    after every ``_LIMIT_PATIENCE`` good steps in a row, so the search ends even where round-off
+    makes the boundary ragged (near the rocker pivot the contact creeps on ever more slowly and
+    α − θ changes by less than its last bit), yet may still pass a failure that was only an RK4
+    stage overshooting a boundary just ahead. An end of pair D is then placed by
+    :func:`_pair_d_end` (the fixed steps lose ~1e-7 rad in its square-root singularity). Returns
+    (θ_end, reason); the reason is None if no end was met within |θ| ≤ 2π.
     """
     k = ScalarKernel(geom)
     a, s, th = alpha, s5, theta
     h = direction * _LIMIT_STEP
     cap = direction * SEARCH_CAP
     reason = None
+    run = 0
+    back = [(th, a)]  # states before the first failed step, the last few kept
     while abs(h) > _LIMIT_RESOLUTION:
         if (th + h - cap) * direction > 0.0:
             if abs(cap - th) <= _LIMIT_RESOLUTION:
@@ -156,12 +173,43 @@ def march_limit(geom: LeverGeometry, theta: float, alpha: float, s5: float, dire
         k.reason = 0
         y = _rk4(k, a, s, th, h)
         if y is None or k.rhs(y[0], th + h) is None:
-            reason = ScalarKernel.REASONS.get(k.reason)
+            reason = k.reason
             h *= 0.5
+            run = 0
             continue
         a, s = y
         th += h
-    return th, reason
+        if reason is None:
+            back = (back + [(th, a)])[-_LIMIT_BACK:]
+        else:
+            run += 1
+            if run == _LIMIT_PATIENCE:
+                h *= 0.5
+                run = 0
+    if reason in (1, 4):  # the rocker direction ψ reached its limit ahead (ψ falls as θ grows)
+        th = _pair_d_end(geom, k, back[0], th, direction)
+    return th, ScalarKernel.REASONS.get(reason)
+
+
+def _pair_d_end(geom: LeverGeometry, k: ScalarKernel, back: tuple[float, float], found: float,
+                direction: float) -> float:
+    """θ at the pair-D end, from a state (θ_b, α_b) a few steps before it: pair D depends on
+    ψ = α − θ alone and dθ/dψ = −ℓ/g(ψ), so θ_end = θ_b + ℓ ∫ dψ/g from ψ_end to ψ_b,
+    with ψ = ψ_end + (ψ_b − ψ_end)t² to take out the square root at the tangent (Gauss–Legendre).
+    Returns ``found`` (the march's end) unless the two agree to 1e-5 rad."""
+    th_b, a_b = back
+    psi_end = k.psi_lo if direction > 0.0 else k.psi_hi
+    delta = (a_b - th_b) - psi_end
+    t = 0.5 * (_END_X + 1.0)
+    psi = psi_end + delta * t * t
+    ex, ey = np.cos(psi), np.sin(psi)
+    wx = geom.c1[0] - geom.f[0] + geom.ell * ex  # c1 − G in the lever frame, G = f − ℓ e(ψ)
+    wy = geom.c1[1] - geom.f[1] + geom.ell * ey
+    b = wx * ex + wy * ey
+    d1 = np.maximum(b * b - (wx * wx + wy * wy - geom.R1 ** 2), 0.0)
+    g = b + geom.branch * np.sqrt(d1)
+    end = th_b + geom.ell * float(np.sum(0.5 * _END_W * 2.0 * delta * t / g))
+    return end if abs(end - found) <= 1e-5 else found
 
 
 def working_range(geom: LeverGeometry) -> WorkingRange:
@@ -182,8 +230,7 @@ def rates(geom: LeverGeometry, alpha: np.ndarray, theta: np.ndarray) -> tuple[np
     w = F + rot(theta, np.asarray(geom.c1) - f) - np.asarray(geom.G)
     b = w[:, 0] * ca + w[:, 1] * sa
     d1 = b * b - (w[:, 0] ** 2 + w[:, 1] ** 2 - geom.R1 ** 2)
-    with np.errstate(invalid="ignore"):
-        g = b + geom.branch * np.sqrt(np.where(d1 > 0.0, d1, np.nan))
+    g = contact_distance(geom, alpha, theta, b, d1)
     z = np.asarray(geom.G) + g[:, None] * np.stack([ca, sa], axis=-1) - (F + rot(theta, np.asarray(geom.c2) - f))
     n = np.asarray(geom.n)
     zn = z @ n
@@ -260,11 +307,25 @@ def integrate(geom: LeverGeometry, end: float, tol: float, start: tuple[float, f
     return ExactPath(geom, np.array(m.theta), np.array(m.alpha), np.array(m.s5), m.error, m.evaluations)
 
 
-def _beyond_message(geom: LeverGeometry, start: float, end: float, stop: _OutOfRange) -> str:
+def _beyond_message(geom: LeverGeometry, start: float, end: float, stop: _OutOfRange, direction: float) -> str:
+    """The refusal of a stroke whose integration (in ``direction``) stopped at ``stop``.
+
+    The reachable range comes from :func:`working_range`; on the side the integration ran, its end
+    is the nearer of the two findings (the integration's stop is a pose proven to fail), so the
+    message never names a range that contradicts the limit it reports.
+    """
     rng = working_range(geom)
     why = ScalarKernel.REASONS.get(stop.reason, "the pose cannot be built")
+    if stop.theta * direction >= 0.0:
+        if direction < 0.0 and stop.theta > rng.lower:
+            rng = WorkingRange(stop.theta, rng.upper, why, rng.upper_reason)
+        elif direction > 0.0 and stop.theta < rng.upper:
+            rng = WorkingRange(rng.lower, stop.theta, rng.lower_reason, why)
+        limit, why = (rng.lower, rng.lower_reason) if direction < 0.0 else (rng.upper, rng.upper_reason)
+    else:  # (cannot happen: the part of the stroke up to the drawn pose was integrated already)
+        limit = stop.theta
     return (f"the stroke θ from {start:g} to {end:g} rad goes beyond the working range: after θ ≈ "
-            f"{stop.theta:.6f} rad {why}. Reachable range from the drawn pose: {rng.describe()}")
+            f"{limit:.6f} rad {why}. Reachable range from the drawn pose: {rng.describe()}")
 
 
 def exact_path(geom: LeverGeometry, start: float, end: float, tol: float) -> ExactPath:
@@ -274,16 +335,18 @@ def exact_path(geom: LeverGeometry, start: float, end: float, tol: float) -> Exa
     same tolerance) and only its end state kept. Raises :class:`GeometryError` with the reachable
     range when the stroke leaves the working range.
     """
+    direction = 1.0 if start > 0.0 else -1.0  # of the integration under way
     try:
         origin = None
         lead = None
         if start != 0.0:
             lead = integrate(geom, start, tol)
             origin = (start, float(lead.alpha[-1]), float(lead.S5[-1]))
+        direction = 1.0 if end > start else -1.0
         path = integrate(geom, end, tol, start=origin)
         if lead is not None:
             path.error_mm += lead.error_mm
             path.evaluations += lead.evaluations
     except _OutOfRange as stop:
-        raise GeometryError(_beyond_message(geom, start, end, stop)) from None
+        raise GeometryError(_beyond_message(geom, start, end, stop, direction)) from None
     return path

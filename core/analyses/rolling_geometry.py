@@ -7,6 +7,19 @@ ground. Pair D: the contact P = G + g e(α) is the chosen intersection of the ro
 moved lever circle; the exact motion obeys dα/dθ = 1 − g/ℓ. Pair E: P0 = P + t2 n, n = J d_s, on
 the moved slider circle; k53 = dS5/dθ = −t2.
 
+Where pair D can be built is decided in the lever frame. There the rocker line is the line through
+the pin f with direction ψ = α − θ and the pivot sits at f − ℓ e(ψ), so the whole of pair D (both
+intersections, g, the discriminant) is a function of ψ alone, and ψ falls strictly along any motion
+(dψ/dθ = α′ − 1 = −g/ℓ < 0). The ends of pair D are therefore fixed directions ψ, found in closed
+form by :func:`pair_d_limits`: a tangent from the pin to the circle (the rocker line becomes
+tangent to the moved circle), the tangent at the pin when the pin lies on the circle (the contact
+reaches the pin), or a direction putting the pivot on the circle (g = 0; since dψ/dθ = −g/ℓ
+vanishes there, that direction is only approached asymptotically, and the range ends where the
+contact comes within κ of the pivot: a drawing with the contact on the pivot is refused).
+Testing ψ against them cannot be stepped over, unlike testing the discriminant: with the pin just
+outside the circle the line misses it only over a sliver of ψ of width ~2√(2δ/R1) (δ the pin's
+gap), and with the pin on the circle the discriminant touches 0 without changing sign.
+
 Every function takes numpy arrays of shape (N,) for α and θ (radians) and returns (N,) or (N, 2)
 arrays in millimetres. Poses where a pair cannot be built give NaN (data, not exceptions).
 """
@@ -17,7 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..model.rolling_lever import RollingLever
+from ..model.rolling_lever import RollingLever, coincidence_tolerance
 
 FloatArray = np.ndarray
 
@@ -54,6 +67,81 @@ class LeverGeometry:
     def scale(self) -> float:
         """A length typical of the mechanism (mm), for relative tolerances."""
         return max(self.ell, self.R1, self.R2)
+
+    @property
+    def kappa(self) -> float:
+        """κ (mm): a pin closer than this to the lever circle lies on it."""
+        return coincidence_tolerance(self.ell, self.R1, self.G, self.c1)
+
+
+def _pair_d_valid(geom: LeverGeometry, psi: float, kappa: float) -> bool:
+    """Pair D in the lever frame for the rocker direction ψ: the line meets the circle, the chosen
+    contact is in front of the pivot and is not the pin itself."""
+    ex, ey = math.cos(psi), math.sin(psi)
+    wx = geom.c1[0] - geom.f[0] + geom.ell * ex  # c1 − G with G = f − ℓ e(ψ)
+    wy = geom.c1[1] - geom.f[1] + geom.ell * ey
+    b = wx * ex + wy * ey
+    d1 = b * b - (wx * wx + wy * wy - geom.R1 ** 2)
+    if not d1 > 0.0:
+        return False
+    g = b + geom.branch * math.sqrt(d1)
+    return g > kappa and abs(g - geom.ell) > kappa
+
+
+def pair_d_limits(geom: LeverGeometry) -> tuple[float, float, int, int]:
+    """(ψ_lo, ψ_hi, reason_lo, reason_hi): the rocker directions in the lever frame, ψ = α − θ (rad,
+    continuous from α0), below and above the drawn one, where pair D stops (±inf: never within
+    the searched turn), and the :attr:`ScalarKernel.REASONS` key of each.
+
+    Candidates, from the centre-to-pin vector u = f − c1 (|u| = d): the tangents from the pin,
+    at ±β from the direction to the centre, sin β = R1/d, modulo π (pin outside, reason 1; on the
+    circle within κ, β = π/2, the tangent at the pin, reason 4; inside: none); the directions with
+    the pivot on the circle, |u − ℓ e(ψ)| = R1, i.e. u·e(ψ) = (d² + ℓ² − R1²)/(2ℓ) (reason 2).
+    Between consecutive candidates pair D is either possible throughout or nowhere (checked at the
+    midpoint); the end is the first candidate followed by an impossible stretch.
+    """
+    kappa = geom.kappa
+    ux, uy = geom.f[0] - geom.c1[0], geom.f[1] - geom.c1[1]
+    d = math.hypot(ux, uy)
+    cands: list[tuple[float, int]] = []
+    gap = d - geom.R1
+    if gap >= -kappa:
+        to_centre = math.atan2(-uy, -ux)
+        if gap <= kappa:
+            beta, why = 0.5 * math.pi, 4
+        else:
+            beta, why = math.atan2(geom.R1, math.sqrt(gap * (d + geom.R1))), 1
+        cands += [(to_centre + beta, why), (to_centre - beta, why),
+                  (to_centre + beta + math.pi, why), (to_centre - beta + math.pi, why)]
+    if d > 0.0:
+        m = (gap * (d + geom.R1) + geom.ell ** 2) / (2.0 * geom.ell * d)
+        if abs(m) <= 1.0:
+            a, phi = math.acos(m), math.atan2(uy, ux)
+            cands += [(phi + a, 2), (phi - a, 2)]
+    a0 = geom.alpha0
+    # over |θ| ≤ 2π, ψ moves by at most 2π·max g/ℓ ≤ 2π(1 + (d + R1)/ℓ)
+    reach = 2.0 * math.pi * (2.0 + (d + geom.R1) / geom.ell) + math.pi
+    pts = sorted((c + 2.0 * math.pi * k, why) for c, why in cands
+                 for k in range(math.ceil((a0 - reach - c) / (2.0 * math.pi)),
+                                math.floor((a0 + reach - c) / (2.0 * math.pi)) + 1))
+    merged: list[tuple[float, int]] = []
+    for c, why in pts:  # coincident candidates (e.g. the two tangents at a pin on the circle) count once
+        if merged and c - merged[-1][0] <= 1e-12:
+            continue
+        merged.append((c, why))
+    up = [p for p in merged if p[0] > a0]
+    down = [p for p in reversed(merged) if p[0] < a0]
+    hi, why_hi = math.inf, 0
+    for (c, why), (c2, _) in zip(up, up[1:]):
+        if not _pair_d_valid(geom, 0.5 * (c + c2), kappa):
+            hi, why_hi = c, why
+            break
+    lo, why_lo = -math.inf, 0
+    for (c, why), (c2, _) in zip(down, down[1:]):
+        if not _pair_d_valid(geom, 0.5 * (c + c2), kappa):
+            lo, why_lo = c, why
+            break
+    return lo, hi, why_lo, why_hi
 
 
 def rot(theta: FloatArray, v: FloatArray) -> FloatArray:
@@ -107,6 +195,19 @@ class PoseState:
         return -self.t2
 
 
+def contact_distance(geom: LeverGeometry, alpha: FloatArray, theta: FloatArray, b: FloatArray,
+                     D1: FloatArray) -> FloatArray:
+    """g (mm) from b and the discriminant D1 (as :class:`ScalarKernel`): NaN outside the directions
+    of :func:`pair_d_limits` and where the contact is within κ of the pivot; within them a
+    non-positive D1 is round-off at a tangent and counts as 0."""
+    lo, hi, _, _ = pair_d_limits(geom)
+    psi = alpha - theta
+    d = np.where((psi > lo) & (psi < hi), np.maximum(D1, 0.0), np.nan)
+    with np.errstate(invalid="ignore"):
+        g = b + geom.branch * np.sqrt(d)
+    return np.where(g > geom.kappa, g, np.nan)
+
+
 def pose_state(geom: LeverGeometry, alpha: FloatArray, theta: FloatArray) -> PoseState:
     """Contacts, rates and angles of both pairs for poses (α, θ), each (N,) rad; see :class:`PoseState`."""
     alpha = np.atleast_1d(np.asarray(alpha, dtype=float))
@@ -120,9 +221,7 @@ def pose_state(geom: LeverGeometry, alpha: FloatArray, theta: FloatArray) -> Pos
     w = C1 - G
     b = np.einsum("ij,ij->i", w, e)
     D1 = b * b - (np.einsum("ij,ij->i", w, w) - geom.R1 ** 2)
-    with np.errstate(invalid="ignore"):
-        g = b + geom.branch * np.sqrt(np.where(D1 >= 0.0, D1, np.nan))
-    g = np.where(g > 0.0, g, np.nan)
+    g = contact_distance(geom, alpha, theta, b, D1)
     P = G + g[:, None] * e
     rate = 1.0 - g / geom.ell
     r1 = rot(-theta, P - C1)
@@ -165,12 +264,18 @@ class ScalarKernel:
     """
 
     REASONS = {1: "the rocker line becomes tangent to the moved lever circle",
-               2: "the contact point reaches the rocker pivot",
-               3: "the normal to the slider axis through the contact leaves the slider circle"}
+               2: "the contact point reaches the rocker pivot (it comes within the coincidence tolerance; "
+                  "the approach is asymptotic, lever and rocker turning ever more as one body about the "
+                  "pivot)",
+               3: "the normal to the slider axis through the contact leaves the slider circle",
+               4: "the contact reaches the pin (the pin lies on the lever circle, so there the rocker line "
+                  "touches the moved lever circle)"}
 
     def __init__(self, geom: LeverGeometry) -> None:
         self.gx, self.gy = geom.G
         self.ell = geom.ell
+        self.psi_lo, self.psi_hi, self.why_lo, self.why_hi = pair_d_limits(geom)
+        self.kappa = geom.kappa
         self.v1 = (geom.c1[0] - geom.f[0], geom.c1[1] - geom.f[1])
         self.v2 = (geom.c2[0] - geom.f[0], geom.c2[1] - geom.f[1])
         self.r1sq = geom.R1 ** 2
@@ -182,6 +287,10 @@ class ScalarKernel:
         self.reason = 0
 
     def _pair_d(self, a: float, th: float):
+        psi = a - th
+        if not self.psi_lo < psi < self.psi_hi:
+            self.reason = self.why_lo if psi <= self.psi_lo else self.why_hi
+            return None
         ca, sa = math.cos(a), math.sin(a)
         ct, st = math.cos(th), math.sin(th)
         fx = self.gx + self.ell * ca
@@ -190,11 +299,9 @@ class ScalarKernel:
         wy = fy + st * self.v1[0] + ct * self.v1[1] - self.gy
         b = wx * ca + wy * sa
         d1 = b * b - (wx * wx + wy * wy - self.r1sq)
-        if not d1 > 0.0:
-            self.reason = 1
-            return None
-        g = b + self.branch * math.sqrt(d1)
-        if not g > 0.0:
+        # within the limits the line cuts the circle: a non-positive value is round-off at a tangent
+        g = b + self.branch * math.sqrt(d1) if d1 > 0.0 else b
+        if not g > self.kappa:  # the contact is (within κ) the pivot
             self.reason = 2
             return None
         return g, ca, sa, ct, st, fx, fy

@@ -26,6 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import GeometryError
 from .rolling_exact import ExactPath, WorkingRange, integrate
 from .rolling_geometry import LeverGeometry, pose_state, rot
 
@@ -301,6 +302,8 @@ def continuous_measures(path: ExactPath, start: float, end: float) -> Continuous
     w = (half[:, None] * _GL_W[None, :]).ravel()
     base = path.base_index(q)
     eta = np.minimum(1e-4, 0.5 * np.repeat(half, len(_GL_X)))  # FD step per point (rad)
+    # the stencil (±2 steps) stays inside the stroke: beyond its ends the working range may be over
+    eta = np.minimum(eta, 0.45 * np.minimum(q - lo, hi - q))
     offs = (-2.0, -1.0, 1.0, 2.0)
     coef = (1.0 / 12.0, -8.0 / 12.0, 8.0 / 12.0, -1.0 / 12.0)
 
@@ -353,4 +356,9 @@ def continuous_measures(path: ExactPath, start: float, end: float) -> Continuous
         ql = left.P0 - s_l[:, None] * ds
         out[4] += float(np.sum(np.linalg.norm(qn - ql, axis=1)))
         out[5] += float(geom.R2 * np.sum(np.abs(_wrap(node.u2 - left.u2))))
+    if not all(math.isfinite(x) for x in out):
+        bad = q[~np.isfinite(st_c.rate) | ~np.isfinite(st_c.t2)]
+        where = f" near θ ≈ {bad[0]:.6f} rad" if len(bad) else ""
+        raise GeometryError(f"the continuous slip measures over θ from {start:g} to {end:g} rad cannot be "
+                            f"evaluated{where}: the computed motion leaves the working range there")
     return ContinuousMeasures(*out)

@@ -200,6 +200,12 @@ def synthesize(element: RollingLever, method: str | None = None, points: int | N
         elapsed = time.perf_counter() - t1
         th, al, F, P, u1, P0, u2, k53, s5, Q = c.theta, c.alpha, c.F, c.P, c.u1, c.P0, c.u2, c.k53, c.S5, c.Q
         error = math.nan
+    bad = ~np.isfinite(al) | ~np.isfinite(s5) | ~np.isfinite(k53) | ~np.all(np.isfinite(P), axis=1) \
+        | ~np.all(np.isfinite(Q), axis=1)
+    if np.any(bad):  # never hand back NaN: the sampled motion left the working range somewhere
+        k = int(np.argmax(bad))
+        raise GeometryError(f"the {method} synthesis cannot evaluate the motion at point {k} of {n} "
+                            f"(θ = {th[k]:.6f} rad): the pose is outside the working range {wr.describe()}")
     result = RollingSynthesis(element, method, geom, th, al, F, P, u1, P0, u2, k53, s5, Q, path, wr,
                               elapsed, error, t_exact)
     if element.drive is not None:

@@ -8,8 +8,10 @@ The profiles themselves are derived (synthesised), never stored: see
 :mod:`mechsketch.core.analyses.rolling_synthesis`.
 
 ``parse`` checks what the schema cannot: the rocker line meets the lever circle in the drawn pose,
-the chosen contact lies on the ray from the pivot, the normal to the slider axis through the contact
-reaches the slider circle, the stroke is not empty, the drive points are distinct.
+the chosen contact lies on the ray from the pivot and is neither the pin nor the pivot itself (both
+make the lever a mere pivoting body, see :func:`coincidence_tolerance`), the normal to the slider
+axis through the contact reaches the slider circle, the stroke is not empty, the drive points are
+distinct.
 """
 from __future__ import annotations
 
@@ -157,6 +159,27 @@ def _xy(v: Any) -> XYTuple:
     return (float(v[0]), float(v[1]))
 
 
+#: two points of the drawing closer than this, relative to its size, count as one (see below)
+COINCIDENCE_REL = 1e-9
+
+
+def coincidence_tolerance(ell: float, r1: float, pivot: XYTuple, center: XYTuple) -> float:
+    """κ (mm): the contact of pair D closer than κ to the pin (g = ℓ) or to the rocker pivot (g = 0)
+    counts as that point; ``COINCIDENCE_REL`` times the largest of ℓ, R1 and |G − c1|.
+
+    Why it matters (the ODE dα/dθ = 1 − g/ℓ): the pin is a lever point, so if it lies on the lever
+    circle it lies on the moved circle and on the rocker line in every pose: g = ℓ is then always a
+    root. If it is the chosen contact, dα/dθ = 0 for all θ: the rocker stands still, the lever only
+    turns about the pin, and both centrodes of pair D shrink to that one point; there is no rolling
+    profile to synthesise. If the other intersection is the contact, the motion is regular until
+    the contact reaches the pin, where the rocker line touches the moved circle (a double root the
+    discriminant only touches, never crosses): the end of the working range. In the same way a
+    rocker pivot on the lever circle as the chosen contact gives g = 0, dα/dθ = 1 for all θ: lever
+    and rocker turn about the pivot as one body.
+    """
+    return COINCIDENCE_REL * max(ell, r1, math.hypot(pivot[0] - center[0], pivot[1] - center[1]))
+
+
 def _drawn_geometry(el: RollingLever) -> tuple[list[tuple[str, str]], XYTuple | None, XYTuple | None]:
     """Check the drawn pose; returns ([(json key, message)], P, P0)."""
     msgs: list[tuple[str, str]] = []
@@ -178,8 +201,31 @@ def _drawn_geometry(el: RollingLever) -> tuple[list[tuple[str, str]], XYTuple | 
                                      f"the pin misses the lever circle by {max(miss, 0.0):.6g} mm in the "
                                      "drawn pose"))
         return msgs, None, None
-    t = b + (1.0 if el.contact_branch == "far" else -1.0) * math.sqrt(disc)
-    if t <= 0.0:
+    # both roots without cancellation: q and c0/q (c0 = |c1 − G|² − R1², the product of the roots)
+    c0 = (cx - gx) ** 2 + (cy - gy) ** 2 - r1 * r1
+    q = b + math.copysign(math.sqrt(disc), b)
+    roots = sorted((q, c0 / q))
+    t = roots[1] if el.contact_branch == "far" else roots[0]
+    kappa = coincidence_tolerance(ell, r1, el.rocker_pivot, el.lever_circle.center)
+    if abs(t - ell) <= kappa:
+        off = math.hypot(el.pin[0] - cx, el.pin[1] - cy) - r1
+        msgs.append(("pin", f"the pin {list(el.pin)} lies on the lever circle ({off:+.3g} mm from it) and is "
+                            f"the {el.contact_branch} intersection of the rocker line, i.e. the contact "
+                            "itself: g = ℓ, so dα/dθ = 1 − g/ℓ = 0, and it stays 0 because the pin stays on "
+                            "the moved circle and on the rocker line in every pose; the rocker never moves, "
+                            "the lever only turns about the pin and both centrodes of pair D shrink to that "
+                            "point (no profile to roll on). Move the pin off the lever circle or use the "
+                            f"'{'near' if el.contact_branch == 'far' else 'far'}' branch"))
+        return msgs, None, None
+    if abs(t) <= kappa:
+        msgs.append(("rocker_pivot", f"rocker_pivot {list(el.rocker_pivot)} lies on the lever circle and is the "
+                                     f"{el.contact_branch} intersection of the rocker line, i.e. the contact "
+                                     "itself: g = 0, so dα/dθ = 1 − g/ℓ = 1 for every θ; lever and rocker turn "
+                                     "about the pivot as one body and both centrodes of pair D shrink to the "
+                                     "pivot (no profile to roll on). Move the pivot off the lever circle or "
+                                     "use the 'far' branch"))
+        return msgs, None, None
+    if t < 0.0:
         msgs.append(("contact_branch", f"the {el.contact_branch} intersection of the rocker line with the "
                                        f"lever circle lies behind rocker_pivot (t = {t:.6g} mm): the "
                                        "pivot is inside the lever circle; use the 'far' branch or move it"))

@@ -7,11 +7,12 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 import test_rolling_reference as ref
 from mechsketch.core.analyses.rolling_exact import exact_path, working_range
+from mechsketch.core.model.rolling_lever import parse
 from mechsketch.core.analyses.rolling_geometry import LeverGeometry, pose_state
 from mechsketch.core.analyses.rolling_slip import continuous_measures
 from mechsketch.core.analyses.rolling_synthesis import synthesize
@@ -187,6 +188,200 @@ def test_slider_normal_leaving_the_slider_circle_is_refused():
     assert 0.0 <= d2 < 1e-3 * geom.R2 ** 2
 
 
+# -- degenerate and near-degenerate drawings ------------------------------------------------------
+def _on_circle(**changes):
+    """Lever circle R1 = 20 at the origin, rocker pivot (100, 0), pin (20, ~0): the rocker line passes
+    through the centre and the pin lies on the circle (the drawing hypothesis found)."""
+    d = dict(ref.PRESS, lever_circle={"center": [0.0, 0.0], "radius": 20.0}, pin=[20.0, 9.797174393178826e-15],
+             rocker_pivot=[100.0, 0.0], slider_circle={"center": [0.0, 0.0], "radius": 40.0}, slider_axis_deg=0.0,
+             slider_side=1, contact_branch="near", drive=None, points=60)
+    d.update(changes)
+    return {k: v for k, v in d.items() if v is not None}
+
+
+@pytest.mark.parametrize("r2,to", [(30.0, -0.5926), (30.0, -2.356194490192345), (40.0, -3.141592653589793)])
+def test_pin_on_the_lever_circle_as_the_contact_is_refused(r2, to):
+    """Was: NaN slip measures (R2 30) or a refusal whose reachable range contradicted its own limit
+    (R2 40). The pin is a lever point: on the circle it stays on the moved circle and on the rocker
+    line in every pose, so as the contact g = ℓ and dα/dθ = 1 − g/ℓ = 0 for ever; the lever only
+    turns about the pin and pair D has no profile. The drawing is refused, saying why."""
+    d = _on_circle(slider_circle={"center": [0.0, 0.0], "radius": r2}, stroke={"from": 0.0, "to": to})
+    el, problems = parse(d, "$")
+    assert el is None and [p.path for p in problems] == ["$.pin"]
+    msg = problems[0].message
+    for part in ("lies on the lever circle", "the contact itself: g = ℓ", "dα/dθ = 1 − g/ℓ = 0",
+                 "the lever only turns about the pin", "use the 'far' branch"):
+        assert part in msg, msg
+    # the reason, with the reference geometry: with the rocker standing still (α = α0) the near
+    # contact is the pin for every θ until the rocker line touches the circle at θ = ±π/2, so
+    # α ≡ α0 solves the ODE: no rolling
+    geo = ref.Geo(d)
+    th = np.linspace(-1.5, 1.5, 31)
+    g, P, _, _, _, _ = geo.contact(np.full_like(th, geo.a0), th)
+    assert np.abs(g - geo.ell).max() < 1e-12 * geo.ell
+    assert np.abs(P - np.asarray(d["pin"])).max() < 1e-12
+
+
+def test_rocker_pivot_on_the_lever_circle_as_the_contact_is_refused():
+    """The mirror case: the pivot on the circle as the (near) contact gives g = 0 and dα/dθ = 1 for
+    ever, lever and rocker turning about the pivot as one body."""
+    G = [50.0 * math.cos(2.5), 50.0 * math.sin(2.5)]
+    pin = [G[0] + 120.0 * math.cos(-0.4), G[1] + 120.0 * math.sin(-0.4)]  # the line enters the circle at G
+    d = dict(ref.PRESS, rocker_pivot=G, pin=pin)
+    el, problems = parse(d, "$")
+    assert el is None and [p.path for p in problems] == ["$.rocker_pivot"]
+    assert "lies on the lever circle" in problems[0].message and "dα/dθ = 1 − g/ℓ = 1" in problems[0].message
+    geo = ref.Geo(d)
+    th = np.linspace(-0.3, 0.3, 13)
+    g = geo.contact(geo.a0 + th, th)[0]  # rocker and lever turned together about G: the contact stays at G
+    assert np.abs(g).max() < 1e-12 * geo.ell
+    assert parse(dict(d, contact_branch="far"), "$")[0] is not None  # the far intersection is fine
+
+
+def test_pin_on_the_lever_circle_with_the_other_intersection_as_the_contact():
+    """Legitimate: the contact rolls from the antipode towards the pin; the range ends where it
+    reaches the pin, the rocker line then touching the moved circle at the pin (a double root the
+    discriminant touches without changing sign: before the fix the march stepped over it and
+    reported ±2π, and slip measures near it were NaN). Ends against the separable quadrature."""
+    d = _on_circle(pin=[20.0, 0.0], contact_branch="far")
+    el = ref.element(**{k: v for k, v in d.items() if k != "type"})
+    wr = working_range(LeverGeometry.from_element(el))
+    assert "contact reaches the pin" in wr.lower_reason and "contact reaches the pin" in wr.upper_reason
+    # the tangent at the pin is perpendicular to the rocker line (which passes through the centre)
+    a0 = math.pi
+    assert wr.lower == pytest.approx(float(ref.mp_theta_of_psi(d, a0 + math.pi / 2)), abs=1e-8)
+    assert wr.upper == pytest.approx(float(ref.mp_theta_of_psi(d, a0 - math.pi / 2)), abs=1e-8)
+    assert wr.upper == pytest.approx(-wr.lower, abs=1e-9)  # the drawing is symmetric
+    for gap in (1e-2, 1e-5, 1e-9):  # up to the end: finite, no slip (was NaN within 2e-4 of it)
+        end = wr.lower + gap
+        res = synthesize(ref.element(**{k: v for k, v in d.items() if k not in ("type", "stroke")},
+                                     stroke={"from": 0.0, "to": end}), measures=True)
+        c = res.slip.continuous
+        assert c.worst < 1e-9
+        a_ref, s_ref = ref.scipy_reference(d | {"stroke": {"from": 0.0, "to": end}}, res.theta[:-1])
+        assert np.abs(res.alpha[:-1] - a_ref).max() < 1e-9
+    # at the end the contact has run over half the lever circle, from the antipode to the pin
+    assert c.length_moving == pytest.approx(math.pi * 20.0, abs=1e-6)
+    assert c.length_fixed == pytest.approx(c.length_moving, rel=1e-9)
+    # beyond the end: refused, the limit and the reachable range agree
+    el_far = ref.element(**{k: v for k, v in d.items() if k not in ("type", "stroke")},
+                         stroke={"from": 0.0, "to": -1.5})
+    with pytest.raises(GeometryError) as exc:
+        synthesize(el_far)
+    msg = str(exc.value)
+    assert f"after θ ≈ {wr.lower:.6f} rad the contact reaches the pin" in msg
+    assert f"θ ∈ [{wr.lower:.6f} rad (the contact reaches the pin" in msg
+
+
+def test_pin_just_outside_the_lever_circle():
+    """The rocker line misses the circle only over a sliver of directions (~2√(2δ/R1) for a gap δ):
+    the fixed-step march used to jump over it and report ±2π 'searched no further' while the
+    stroke's integration stopped there. The ends are the tangents from the pin, at ±asin(R1/d) from
+    the direction to the centre (modulo π; the nearest on either side of the drawn direction, where
+    the discriminant vanishes), reached at the θ of the separable quadrature."""
+    G = (100.0, 7.0)
+    e = np.array([20 * math.cos(0.1), 20 * math.sin(0.1)]) - G
+    e /= np.linalg.norm(e)
+    b = -np.dot(G, e)
+    for delta in (1e-6, 1e-3):
+        t = b - math.sqrt(b * b - (np.dot(G, G) - (20.0 + delta) ** 2))
+        d = _on_circle(pin=[float(x) for x in np.array(G) + t * e], rocker_pivot=list(G))
+        el = ref.element(**{k: v for k, v in d.items() if k != "type"})
+        wr = working_range(LeverGeometry.from_element(el))
+        mp = ref.mp
+        psi0, _, D, _ = ref.mp_lever_frame(d)
+        u = [mp.mpf(0) - mp.mpf(x) for x in d["pin"]]  # pin → centre
+        beta = mp.asin(20 / mp.sqrt(u[0] ** 2 + u[1] ** 2))
+        tangents = [mp.atan2(u[1], u[0]) + s * beta + k * mp.pi for s in (1, -1) for k in range(-3, 4)]
+        ends = (min(t for t in tangents if t > psi0), max(t for t in tangents if t < psi0))
+        for end, psi_end in zip((wr.lower, wr.upper), ends):  # ψ = α − θ falls as θ grows
+            assert abs(D(psi_end)) < 1e-20
+            assert end == pytest.approx(float(ref.mp_theta_of_psi(d, psi_end)), abs=1e-8)
+        assert "tangent" in wr.lower_reason and "tangent" in wr.upper_reason
+        res = synthesize(ref.element(**{k: v for k, v in d.items() if k not in ("type", "stroke")},
+                                     stroke={"from": 0.0, "to": 0.9 * wr.lower}), measures=True)
+        assert res.slip.continuous.worst < 1e-9
+
+
+def test_working_range_ends_against_the_separable_quadrature():
+    """Pair-D ends are placed to 1e-9 rad (they were 1.5e-7 and 7e-7 rad early: fixed RK4 steps
+    lose accuracy in the square-root singularity at the tangency)."""
+    wr = working_range(LeverGeometry.from_element(ref.element()))
+    psi0, _, D, _ = ref.mp_lever_frame(ref.PRESS)
+    for end, sgn in ((wr.lower, 1), (wr.upper, -1)):
+        p, step = psi0, sgn * ref.mp.mpf("0.01")
+        while D(p + step) > 0:
+            p += step
+        psi_end = ref.mp.findroot(D, (p, p + step), solver="anderson")
+        assert end == pytest.approx(float(ref.mp_theta_of_psi(ref.PRESS, psi_end)), abs=1e-9)
+
+
+def test_contact_creeping_towards_the_rocker_pivot():
+    """The pivot 6.6e-7 mm outside the circle and the near contact next to it (found by a sweep of
+    near-degenerate drawings): g → 0 makes dψ/dθ = −g/ℓ → 0, so the contact approaches the pivot
+    only asymptotically and α − θ soon changes by less than its last bit. The march used to loop
+    for ever there; now it ends where the contact comes within κ of the pivot, and the stroke's
+    refusal agrees with it."""
+    d = {"type": "rolling_lever", "id": "press", "lever_circle": {"center": [0.0, 0.0], "radius": 34.48599426072094},
+         "contact_branch": "near", "pin": [32.493985605690305, -12.34110823461407],
+         "rocker_pivot": [21.020420428692077, -27.339088699937186],
+         "slider_circle": {"center": [4.662077394800403, -6.063482310203766], "radius": 50.812081133480746},
+         "slider_axis_deg": 55.47671629894913, "slider_side": -1, "stroke": {"from": 0.0, "to": 0.5}, "points": 60}
+    el = ref.element(**{k: v for k, v in d.items() if k != "type"})
+    geom = LeverGeometry.from_element(el)
+    wr = working_range(geom)
+    assert "reaches the rocker pivot" in wr.upper_reason and 1.0 < wr.upper < 1.3
+    path = exact_path(geom, 0.0, wr.upper - 1e-3, 1e-10)
+    g = pose_state(geom, path.alpha[-1:], path.theta[-1:]).g[0]
+    assert geom.kappa < g < 1.2 * geom.kappa  # κ = 1e-9 × the drawing's size
+    res = synthesize(el, measures=True)
+    assert res.slip.continuous.worst < 1e-9
+    with pytest.raises(GeometryError) as exc:
+        synthesize(ref.element(**{k: v for k, v in d.items() if k not in ("type", "stroke")},
+                               stroke={"from": 0.0, "to": 2.0}))
+    limit = str(exc.value).split("after θ ≈ ")[1].split(" rad")[0]
+    assert f"{limit} rad (the contact point reaches the rocker pivot" in str(exc.value)
+
+
+def test_refusal_reports_the_nearer_end():
+    """The stroke's integration and the working-range march may find an end at slightly different
+    θ (or, before the fixes, at very different θ); the refusal names one end and a range that
+    agrees with it."""
+    from mechsketch.core.analyses.rolling_exact import _beyond_message, _OutOfRange
+
+    geom = LeverGeometry.from_element(ref.element())
+    wr = working_range(geom)
+    early = _beyond_message(geom, 0.0, -0.9, _OutOfRange(-0.7, geom.alpha0, 0.0, 3), -1.0)
+    assert "after θ ≈ -0.700000 rad the normal to the slider axis" in early
+    assert "θ ∈ [-0.700000 rad (the normal to the slider axis" in early
+    late = _beyond_message(geom, 0.0, -0.9, _OutOfRange(-0.85, geom.alpha0, 0.0, 1), -1.0)
+    assert f"after θ ≈ {wr.lower:.6f} rad the rocker line" in late and f"θ ∈ [{wr.lower:.6f} rad" in late
+    up = _beyond_message(geom, 0.0, 3.0, _OutOfRange(2.0, geom.alpha0, 0.0, 3), 1.0)
+    assert "after θ ≈ 2.000000 rad" in up and "2.000000 rad (the normal to the slider axis" in up
+
+
+def test_no_nan_comes_back_silently(monkeypatch):
+    """Measures over a span the motion cannot reach, and samples that are not finite, are refused."""
+    from mechsketch.core.analyses import rolling_exact
+
+    geom = LeverGeometry.from_element(ref.element())
+    path = exact_path(geom, 0.0, -0.79, 1e-10)
+    with pytest.raises(GeometryError, match="continuous slip measures .* cannot be evaluated near θ ≈"):
+        continuous_measures(path, 0.0, -0.85)  # beyond the working range (it ends at −0.7996)
+    real = rolling_exact.ExactPath.at
+
+    def broken(self, theta_q, base=None):
+        a, s = real(self, theta_q, base)
+        if len(a) > 5:
+            a = a.copy()
+            a[5] = np.nan
+        return a, s
+
+    monkeypatch.setattr(rolling_exact.ExactPath, "at", broken)
+    with pytest.raises(GeometryError, match=r"cannot evaluate the motion at point 5 of 60"):
+        synthesize(ref.element(points=60), measures=False)
+
+
 # -- hypothesis: valid random geometries -------------------------------------------------------
 @st.composite
 def geometries(draw):
@@ -205,6 +400,11 @@ def geometries(draw):
              slider_circle={"center": list(c2), "radius": r2},
              slider_axis_deg=draw(st.floats(-90.0, 90.0)), slider_side=draw(st.sampled_from([1, -1])),
              contact_branch=draw(st.sampled_from(["near", "far"])), drive=None, points=60)
+    # the pin drawn on the lever circle as the contact itself is refused (see
+    # test_pin_on_the_lever_circle_as_the_contact_is_refused); checked here with the reference geometry
+    geo = ref.Geo(d)
+    g0 = geo.contact(np.array([geo.a0]), np.array([0.0]))[0][0]
+    assume(abs(g0 - geo.ell) > 1e-8 * max(geo.ell, r1, dist))
     frac = draw(st.floats(0.2, 0.95))
     up = draw(st.booleans())
     return d, frac, up

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import json
+import math
 
 import pytest
 
@@ -53,6 +54,13 @@ def test_drawn_contacts():
     ({"rocker_pivot": [60, -20]}, "rocker_pivot [60.0, -20.0] coincides with the pin"),
     ({"pin": [60, 200]}, "misses the lever circle by"),
     ({"rocker_pivot": [10, 0]}, "lies behind rocker_pivot"),
+    ({"lever_circle": {"center": [0, 0], "radius": 20}, "pin": [20, 9.797174393178826e-15], "rocker_pivot": [100, 0],
+      "slider_circle": {"center": [0, 0], "radius": 30}},
+     "lies on the lever circle (+0 mm from it) and is the near intersection of the rocker line, i.e. the contact "
+     "itself: g = ℓ, so dα/dθ = 1 − g/ℓ = 0"),
+    ({"rocker_pivot": [50 * math.cos(2.5), 50 * math.sin(2.5)],
+      "pin": [50 * math.cos(2.5) + 120 * math.cos(-0.4), 50 * math.sin(2.5) + 120 * math.sin(-0.4)]},
+     "lies on the lever circle and is the near intersection of the rocker line, i.e. the contact itself: g = 0"),
     ({"slider_circle": {"center": [200, 0], "radius": 20}}, "cannot reach the slider circle"),
     ({"stroke": {"from": 0.3, "to": 0.3}}, "the stroke is empty"),
     ({"drive": {"crank_pivot": [30, 40], "coupler_point": [30, 40]}}, "coincides with the crank pivot"),

@@ -5,6 +5,8 @@ own checks against the numbers of the notes (section C, default scene).
   integrator at 20 digits (θ = −τ, since odefun marches forward).
 - :func:`scipy_reference`: the same ODE with scipy's DOP853 at rtol 1e-13, the geometry coded again
   here in numpy.
+- :func:`mp_theta_of_psi`: pair D seen from the lever depends only on the rocker direction
+  ψ = α − θ, so the ODE separates and θ(ψ) is a quadrature (mpmath); used for working-range ends.
 Other rolling tests import this module (``import test_rolling_reference as ref``).
 """
 from __future__ import annotations
@@ -124,6 +126,44 @@ def mp_reference(key: str, dps: int = 20):
 
     sol = mp.odefun(lambda tau, y: [-r for r in rates(y[0], -tau)], 0, [a0, mp.mpf(0)])
     return lambda th: sol(-mp.mpf(th))
+
+
+def mp_lever_frame(d: dict, dps: int = 30):
+    """Pair D seen from the lever, in mpmath: returns (ψ0, g(ψ), D(ψ), b(ψ)) for the rocker direction
+    ψ = α − θ. In the lever frame the rocker line passes through the pin f with direction e(ψ) and
+    the pivot sits at f − ℓ e(ψ), so b (projection of c1 − G on the line), the discriminant D and
+    the contact distance g depend on ψ alone (D clamped at 0 for g)."""
+    mp.mp.dps = dps
+    G = [mp.mpf(x) for x in d["rocker_pivot"]]
+    f = [mp.mpf(x) for x in d["pin"]]
+    c = [mp.mpf(x) for x in d["lever_circle"]["center"]]
+    R = mp.mpf(d["lever_circle"]["radius"])
+    br = 1 if d.get("contact_branch", "near") == "far" else -1
+    ell = mp.sqrt((f[0] - G[0]) ** 2 + (f[1] - G[1]) ** 2)
+
+    def parts(psi):
+        e = (mp.cos(psi), mp.sin(psi))
+        w = (c[0] - f[0] + ell * e[0], c[1] - f[1] + ell * e[1])
+        b = w[0] * e[0] + w[1] * e[1]
+        return b, b * b - (w[0] ** 2 + w[1] ** 2 - R ** 2)
+
+    def g(psi):
+        b, D = parts(psi)
+        return b + br * mp.sqrt(max(D, 0))
+
+    return mp.atan2(f[1] - G[1], f[0] - G[0]), g, (lambda psi: parts(psi)[1]), (lambda psi: parts(psi)[0])
+
+
+def mp_theta_of_psi(d: dict, psi_end, dps: int = 30):
+    """θ at which the rocker direction seen from the lever, ψ = α − θ, reaches ``psi_end``: pair D
+    depends on ψ alone, so dα/dθ = 1 − g/ℓ separates into dθ/dψ = −ℓ/g(ψ) and
+    θ = −ℓ ∫_{ψ0}^{ψ_end} dψ/g(ψ) (mpmath's tanh-sinh quadrature copes with the square root of g at
+    a tangent). Independent of any step-by-step integration."""
+    psi0, g, _, _ = mp_lever_frame(d, dps)
+    G = [mp.mpf(x) for x in d["rocker_pivot"]]
+    f = [mp.mpf(x) for x in d["pin"]]
+    ell = mp.sqrt((f[0] - G[0]) ** 2 + (f[1] - G[1]) ** 2)
+    return -ell * mp.quad(lambda p: 1 / g(p), [psi0, mp.mpf(psi_end)])
 
 
 # -- the references against the notes ----------------------------------------------------------
