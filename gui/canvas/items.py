@@ -86,6 +86,21 @@ def short_error(error: str) -> str:
     return first if len(first) <= 90 else first[:87] + "..."
 
 
+def draw_ground(painter: QPainter, at: XY, px: float) -> None:
+    """A ground-pivot symbol (triangle on a hatched base) at ``at``; ``px`` is one pixel in mm."""
+    x, y = at
+    tri = QPolygonF([QPointF(x, y), QPointF(x - 8 * px, y - 13 * px), QPointF(x + 8 * px, y - 13 * px)])
+    painter.setPen(_pen(INK, 1.4))
+    painter.setBrush(QBrush(QColor("#e7e9ee")))
+    painter.drawPolygon(tri)
+    base = y - 13 * px
+    painter.drawLine(QPointF(x - 13 * px, base), QPointF(x + 13 * px, base))
+    painter.setPen(_pen(MUTED, 1.0))
+    for k in range(-3, 4):
+        x0 = x + k * 4 * px
+        painter.drawLine(QPointF(x0 + 2 * px, base), QPointF(x0 - 2 * px, base - 5 * px))
+
+
 class _Item(QGraphicsItem):
     """Base: a cached bounding rect padded by a margin in screen pixels."""
 
@@ -171,7 +186,7 @@ class LinkageItem(_Item):
         grounded = set(lk.link(lk.ground).joints) if lk.ground in lk.link_ids else set()
         for j in lk.joints:
             if j.id in grounded and j.kind is JointKind.R:
-                self._ground_symbol(painter, self.pose.at[j.id], px)
+                draw_ground(painter, self.pose.at[j.id], px)
         for j in lk.joints:
             if j.kind is JointKind.P:
                 self._block(painter, j.id, px)
@@ -222,19 +237,6 @@ class LinkageItem(_Item):
         painter.setPen(_pen(INK, 1.6))
         painter.setBrush(QBrush(QColor("white")))
         painter.drawEllipse(QPointF(x, y), r, r)
-
-    def _ground_symbol(self, painter: QPainter, at: XY, px: float) -> None:
-        x, y = at
-        tri = QPolygonF([QPointF(x, y), QPointF(x - 8 * px, y - 13 * px), QPointF(x + 8 * px, y - 13 * px)])
-        painter.setPen(_pen(INK, 1.4))
-        painter.setBrush(QBrush(QColor("#e7e9ee")))
-        painter.drawPolygon(tri)
-        base = y - 13 * px
-        painter.drawLine(QPointF(x - 13 * px, base), QPointF(x + 13 * px, base))
-        painter.setPen(_pen(MUTED, 1.0))
-        for k in range(-3, 4):
-            x0 = x + k * 4 * px
-            painter.drawLine(QPointF(x0 + 2 * px, base), QPointF(x0 - 2 * px, base - 5 * px))
 
     def _guide(self, painter: QPainter, jid: str, px: float) -> None:
         (x1, y1), (x2, y2) = self.pose.guide[jid]

@@ -21,12 +21,12 @@ import math
 
 import numpy as np
 from PySide6.QtCore import QPointF, QRectF, Qt
-from PySide6.QtGui import QBrush, QColor, QPainter, QPainterPath, QPainterPathStroker, QPen, QPolygonF, QTransform
+from PySide6.QtGui import QBrush, QColor, QPainter, QPainterPath, QPainterPathStroker, QPen, QTransform
 from PySide6.QtWidgets import QGraphicsItem, QGraphicsPathItem, QStyleOptionGraphicsItem, QWidget
 
 from ..element_results import RollingResult
 from .geneva_items import _Container, _path_item, arc_to
-from .items import DRIVER_EDGE, INK, LINK_EDGE, LINK_FILL, MUTED, NOTE, SELECT, _pen, _px, _text
+from .items import DRIVER_EDGE, INK, LINK_EDGE, LINK_FILL, MUTED, NOTE, SELECT, _pen, _px, _text, draw_ground
 
 FRAME_EDGE = QColor("#b03a2e")
 FRAME_FILL = QColor("#e8d5d2")
@@ -282,7 +282,7 @@ class RollingItem(_Container):
             painter.setPen(_pen(fill, edge_w - 3.0))
             painter.drawLine(pa, pb)
         for g in grounds:
-            self._ground(painter, g, px)
+            draw_ground(painter, g, px)
         painter.setPen(_pen(INK, 1.6))
         painter.setBrush(QBrush(QColor("white")))
         r = JOINT_PX * px
@@ -301,16 +301,6 @@ class RollingItem(_Container):
         if fr.A is not None:
             for p, name in ((fr.A[k], "A"), (fr.B[k], "B"), (fr.C[k], "C")):
                 _text(painter, (float(p[0]), float(p[1])), name, px, 8.0, 7.0, INK, 11, True)
-
-    @staticmethod
-    def _ground(painter: QPainter, at: tuple[float, float], px: float) -> None:
-        x, y = at
-        tri = QPolygonF([QPointF(x, y), QPointF(x - 8 * px, y - 13 * px), QPointF(x + 8 * px, y - 13 * px)])
-        painter.setPen(_pen(INK, 1.4))
-        painter.setBrush(QBrush(QColor("#e7e9ee")))
-        painter.drawPolygon(tri)
-        base = y - 13 * px
-        painter.drawLine(QPointF(x - 13 * px, base), QPointF(x + 13 * px, base))
 
     # -- selection and picking --------------------------------------------------------------
     def set_selected(self, on: bool) -> None:
