@@ -325,8 +325,8 @@ class Solution:
             raise ValueError(f"{what} needs a solve with order >= {order} (this one has order {self.order})")
 
     def _joint(self, joint: str) -> tuple[K.LinkState, complex]:
-        link = self.plan.reporter[joint] if joint in self.plan.reporter else self.plan.linkage.joint(joint)
-        return self._state(link), _c(self.plan.linkage.joint(joint).at)
+        drawn = self.plan.linkage.joint(joint)  # KeyError naming an unknown joint
+        return self._state(self.plan.reporter[joint]), _c(drawn.at)
 
     # -- joints and points ----------------------------------------------------------------
     def position(self, joint: str) -> np.ndarray:
