@@ -9,16 +9,16 @@ Public API::
 """
 from __future__ import annotations
 
-from .errors import (ExportError, GeometryError, MechsketchError, Problem, SceneFormatError,
-                     StructureError)
+from .errors import (EditError, ExportError, GeometryError, MechsketchError, Problem, RequestError,
+                     SceneFormatError, StructureError, UnknownIdError)
 from .io.scene_file import dumps_scene, load_scene, loads_scene, save_scene, validate_file
 from .model.edits import AddElement, Document, MoveJoint, MoveJoints, RemoveElement, ReplaceElement
 from .model.linkage import Driver, Joint, JointKind, Link, Linkage
 from .model.scene import Scene
 
 __all__ = [
-    "AddElement", "Document", "Driver", "ExportError", "GeometryError", "Joint", "JointKind",
+    "AddElement", "Document", "Driver", "EditError", "ExportError", "GeometryError", "Joint", "JointKind",
     "Link", "Linkage", "MechsketchError", "MoveJoint", "MoveJoints", "Problem", "RemoveElement",
-    "ReplaceElement", "Scene", "SceneFormatError", "StructureError", "dumps_scene", "load_scene",
+    "ReplaceElement", "RequestError", "UnknownIdError", "Scene", "SceneFormatError", "StructureError", "dumps_scene", "load_scene",
     "loads_scene", "save_scene", "validate_file",
 ]

@@ -43,6 +43,25 @@ class ExportError(MechsketchError, OSError):
     """Writing a file failed (unwritable path, disk full); the message names the path."""
 
 
+class UnknownIdError(MechsketchError, KeyError):
+    """An id (element, joint, link, group) that the document or the solution does not hold.
+
+    Also a :class:`KeyError`, but printed as its message (``KeyError`` would quote it).
+    """
+
+    def __str__(self) -> str:
+        return str(self.args[0]) if self.args else "unknown id"
+
+
+class EditError(MechsketchError, ValueError):
+    """An edit that cannot be applied to the document (a duplicate id, a changed topology...)."""
+
+
+class RequestError(MechsketchError, ValueError):
+    """A request the solver or an analysis cannot serve as asked (derivative order, samples,
+    a quantity not computed by this solve); the message says what to ask instead."""
+
+
 class Problem:
     """One finding of validation: where, which id, what is wrong."""
 
