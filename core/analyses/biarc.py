@@ -19,6 +19,8 @@ from typing import Callable
 
 import numpy as np
 
+from ..errors import GeometryError
+
 Curve = Callable[[np.ndarray], np.ndarray]
 
 
@@ -169,7 +171,7 @@ def fit_biarcs(curve: Curve, t0: float, t1: float, tolerance: float, tangent: Ca
     s = np.linspace(0.0, 1.0, samples_per_span + 1)[1:-1]
     while todo:
         if len(done) + len(todo) > max_spans or abs(todo[0][1] - todo[0][0]) < 1e-12 * scale:
-            raise ValueError(f"more than {max_spans} biarcs would be needed for a tolerance of {tolerance:g} mm "
+            raise GeometryError(f"more than {max_spans} biarcs would be needed for a tolerance of {tolerance:g} mm "
                              "(is the curve smooth?)")
         fits = []
         tq = np.concatenate([a + s * (b - a) for a, b in todo])

@@ -14,6 +14,8 @@ from dataclasses import dataclass
 import numpy as np
 import shapely
 
+from ..errors import GeometryError
+
 #: turns smaller than this (rad) at a vertex count as tangent joins
 TANGENT_TOL = 1e-9
 
@@ -135,7 +137,7 @@ class Contour:
             n_out, n_in = normal(k, True), normal(j, False)
             turn = math.atan2(n_out[0] * n_in[1] - n_out[1] * n_in[0], float(n_out @ n_in))
             if turn < -TANGENT_TOL:
-                raise ValueError(f"offset: concave corner at vertex {j} ({math.degrees(turn):.3g}°)")
+                raise GeometryError(f"offset: concave corner at vertex {j} ({math.degrees(turn):.3g}°)")
             if turn > TANGENT_TOL:
                 pts.append(sg.p1[k] + d * n_out)
                 bul.append(math.tan(turn / 4.0))

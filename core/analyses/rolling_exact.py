@@ -298,7 +298,7 @@ def integrate(geom: LeverGeometry, end: float, tol: float, start: tuple[float, f
     th, a, s = start if start is not None else (0.0, geom.alpha0, 0.0)
     span = abs(end - th)
     if span == 0.0:
-        raise ValueError("empty integration span")
+        raise GeometryError("empty integration span")
     if k.rhs(a, th) is None:
         raise _OutOfRange(th, a, s, k.reason)
     m = _March([th], [a], [s])

@@ -41,7 +41,7 @@ class NaturalSpline:
         pts = np.asarray(points, dtype=float)
         h = np.hypot(*np.diff(pts, axis=0).T)
         if np.any(h <= 0.0):
-            raise ValueError("spline points must be distinct")
+            raise GeometryError("spline points must be distinct")
         self.s = np.concatenate([[0.0], np.cumsum(h)])
         n = len(pts)
         m = np.zeros((n, 2))  # second derivatives; natural ends: m_0 = m_{n-1} = 0

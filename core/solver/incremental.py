@@ -1,0 +1,84 @@
+"""Re-solve a linkage after some of its joints moved, running only the groups that depend on them.
+
+A drag moves one joint (or a few) of a linkage whose topology stays the same. The groups that do
+not use a moved joint, and do not hang on a group that does, see exactly the same inputs as
+before: their link states, outputs and branch points are reused from the previous solution, and
+only the *dirty* groups — those with a moved joint, and everything downstream of them — run again.
+
+The result is the solution a full :meth:`~mechsketch.core.solver.plan.Plan.evaluate` of the new
+plan would give, bit for bit, or ``None`` when the shortcut does not apply (the topology, the
+driver or the coordinate scale that sets the rounding tolerances changed; the old solution was
+partial). The caller then solves in full.
+"""
+from __future__ import annotations
+
+import time
+from typing import Iterable
+
+import numpy as np
+
+from ..model.linkage import Linkage
+from .plan import Plan, Solution
+
+
+def topology_key(linkage: Linkage) -> tuple:
+    """What the structural decomposition depends on: joint ids and kinds, links, ground, driver.
+
+    Two linkages with equal keys decompose into the same groups (only drawn positions differ).
+    """
+    drv = linkage.driver
+    return (tuple((j.id, j.kind) for j in linkage.joints), tuple((k.id, k.joints) for k in linkage.links),
+            linkage.ground, drv.link, drv.pivot)
+
+
+def moved_joints(old: Linkage, new: Linkage) -> frozenset[str] | None:
+    """Ids of the joints whose drawn position or slide axis differ between ``old`` and ``new``;
+    None when the two differ in anything else (topology, driver speed, samples)."""
+    if (topology_key(old) != topology_key(new) or old.driver != new.driver
+            or old.samples != new.samples):
+        return None
+    return frozenset(a.id for a, b in zip(old.joints, new.joints) if a != b)
+
+
+def dirty_steps(plan: Plan, moved: Iterable[str]) -> set[int]:
+    """Indices of the steps of ``plan`` that use a joint of ``moved`` or depend on such a step."""
+    moved = set(moved)
+    dirty: set[int] = set()
+    changed_links: set[str] = set()
+    for k, step in enumerate(plan.steps):
+        g = step.group
+        if moved.intersection(g.joints) or changed_links.intersection(step.needs):
+            dirty.add(k)
+            changed_links.update((g.link_i, g.link_j))
+    return dirty
+
+
+def resweep(old: Solution, plan: Plan, moved: Iterable[str]) -> Solution | None:
+    """Solve ``plan`` (the linkage after a move) at ``old``'s inputs and order, re-running only the
+    groups that use a joint of ``moved`` and those downstream of them.
+
+    ``old`` must be a solution of every group of the linkage before the move. Returns None when
+    the shortcut does not apply (see the module docstring); the caller then solves in full.
+    Arrays keep the shapes of :class:`Solution`: (N,) samples on the leading axis.
+    """
+    before = old.plan
+    if (topology_key(before.linkage) != topology_key(plan.linkage) or len(old.groups) != len(plan.steps)
+            or before.theta0 != plan.theta0 or before.pivot != plan.pivot
+            or before.coord_scale != plan.coord_scale or before.omega != plan.omega):
+        return None
+    dirty = dirty_steps(plan, moved)
+    # branch points of the clean groups are those of the old plan (same inputs all the way up)
+    clean_names = {plan.steps[k].group.name for k in range(len(plan.steps)) if k not in dirty}
+    old_branches = before._branches or {}
+    plan._branches = {name: b for name, b in old_branches.items() if name in clean_names}
+    branches = plan.branch_points(sorted(dirty))
+    start = time.perf_counter()
+    states = dict(old._states)
+    outs = dict(old._outs)
+    fresh = plan.run_steps(old.input, old.order, sorted(dirty), branches, old.omega_driver, 0.0, states)
+    outs.update(fresh)
+    valid = np.ones(old.input.shape, dtype=bool)
+    for out in outs.values():
+        valid &= out.ok
+    elapsed = time.perf_counter() - start
+    return Solution(plan, old.input, old.order, states, outs, valid, old.omega_driver, old.t, elapsed)
