@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import GeometryError
-from ..io.table import Table
+from .table import Table
 
 
 def _j(v: np.ndarray) -> np.ndarray:

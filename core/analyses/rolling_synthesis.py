@@ -17,7 +17,6 @@ from typing import Callable
 import numpy as np
 
 from ..errors import GeometryError
-from ..io.table import Table
 from ..model.rolling_lever import METHODS, RollingLever
 from .rolling_drive import DriveSynthesis, synthesize_drive
 from .rolling_exact import ExactPath, WorkingRange, exact_path, march_limit
@@ -25,6 +24,7 @@ from .rolling_geometry import LeverGeometry, PoseState, pose_state, slider_point
 from .rolling_paper import construct
 from .rolling_slip import (ContinuousMeasures, ExactReference, NaturalSpline, PhysicalSlip, PointMeasures,
                            continuous_measures, physical_slip, point_measures, reference_for)
+from .table import Table
 
 COLUMNS = ("theta", "alpha", "F.x", "F.y", "P.x", "P.y", "u1", "P0.x", "P0.y", "u2", "k53", "S5", "Q.x", "Q.y")
 

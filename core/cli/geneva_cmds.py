@@ -8,8 +8,8 @@ import numpy as np
 
 from ..analyses.geneva_contact import GenevaContact
 from ..analyses.geneva_kinematics import GenevaKinematics
+from ..analyses.table import Table
 from ..errors import GeometryError
-from ..io.table import Table
 from ..model.geneva import Geneva
 from . import Analysis
 

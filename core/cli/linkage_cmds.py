@@ -5,7 +5,7 @@ import math
 
 import numpy as np
 
-from ..io.table import Table
+from ..analyses.table import Table
 from ..model.linkage import Linkage
 from ..solver.diagnostics import diagnose
 from . import Analysis
