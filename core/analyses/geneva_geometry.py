@@ -276,13 +276,6 @@ class GenevaGeometry:
             return self.direction - float(wheel_angle(phi, d.lam))
         return self.direction - math.copysign(math.pi / d.slots, phi)
 
-    def check_clearances(self, samples: int = 720, tol: float = 5e-4, relief_radius: float | None = None):
-        """The independent shapely sweep over a full revolution: see
-        :func:`mechsketch.core.analyses.geneva_clearance.check_clearances` (returns a ClearanceReport)."""
-        from .geneva_clearance import check_clearances
-
-        return check_clearances(self, samples, tol, relief_radius)
-
     def placed(self, phi: float = 0.0) -> dict[str, Part]:
         """Every part in world coordinates (mm) at crank angle ``phi`` (rad, from the line of
         centres, in (−π, π]): ``wheel``, ``locking_disc``, ``crank_arm``, ``roller``."""

@@ -22,6 +22,7 @@ from .rolling_drive import DriveSynthesis, synthesize_drive
 from .rolling_exact import ExactPath, WorkingRange, exact_path, march_limit
 from .rolling_geometry import LeverGeometry, PoseState, pose_state, slider_point
 from .rolling_paper import construct
+from .rolling_report import summary as rolling_summary
 from .rolling_slip import (ContinuousMeasures, ExactReference, NaturalSpline, PhysicalSlip, PointMeasures,
                            continuous_measures, physical_slip, point_measures, reference_for)
 from .table import Table
@@ -134,9 +135,7 @@ class RollingSynthesis:
     # -- report ---------------------------------------------------------------------------------
     def summary(self) -> str:
         """A human summary: stroke, working range, S5, slip measures, time, drive."""
-        from .rolling_report import summary
-
-        return summary(self)
+        return rolling_summary(self)
 
 
 def _working_range(geom: LeverGeometry, path: ExactPath) -> WorkingRange:

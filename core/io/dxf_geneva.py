@@ -15,12 +15,12 @@ import os
 from typing import TYPE_CHECKING
 
 from ..analyses.geneva_contour import Contour
+from ..analyses.geneva_geometry import GenevaGeometry, geometry
 from .dxf import new_document, save_document
 
 if TYPE_CHECKING:
     from ezdxf.document import Drawing
 
-    from ..analyses.geneva_geometry import GenevaGeometry
     from ..model.geneva import Geneva
 
 #: layer name -> ACI colour
@@ -38,7 +38,7 @@ def _cross(msp, centre: tuple[float, float], half: float) -> None:
     msp.add_line((x, y - half), (x, y + half), dxfattribs={"layer": "centre_marks"})
 
 
-def build_document(geo: "GenevaGeometry", phi: float = 0.0) -> "Drawing":
+def build_document(geo: GenevaGeometry, phi: float = 0.0) -> "Drawing":
     """An ezdxf document (R2010, $INSUNITS = 4 mm) of the drive at crank angle ``phi`` (rad)."""
     doc = new_document(LAYERS)
     msp = doc.modelspace()
@@ -62,7 +62,7 @@ def export_geneva(element: "Geneva", path: str | os.PathLike, phi: float = 0.0) 
     Raises :class:`~mechsketch.core.errors.GeometryError` if the drive cannot be built and
     :class:`~mechsketch.core.errors.ExportError` if the file cannot be written.
     """
-    geo = element.geometry()
+    geo = geometry(element)
     doc = build_document(geo, phi)
     save_document(doc, path)
     parts = geo.placed(phi)

@@ -14,9 +14,11 @@ from typing import Any, Callable
 
 import jsonschema
 
+from mechsketch import resources  # a data package (example scenes, schemas): no code of ours above core
+
 from ..errors import Problem, SceneFormatError
-from .atomic import atomic_write_text  # noqa: F401  (re-exported: others import it from here)
 from ..model.scene import FORMAT, SCHEMA_VERSION, Scene, element_module
+from .atomic import atomic_write_text  # noqa: F401  (re-exported: others import it from here)
 
 #: files larger than this are refused before reading (bytes)
 MAX_FILE_BYTES = 10 * 1024 * 1024
@@ -26,8 +28,6 @@ MIGRATIONS: dict[int, Callable[[dict], dict]] = {}
 
 
 def _schema(name: str) -> dict:
-    from mechsketch import resources
-
     return resources.schema(name)
 
 

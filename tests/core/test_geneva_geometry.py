@@ -139,7 +139,7 @@ def test_shapely_sweep_no_overlap_roller_clearance_equals_slot_clearance(z):
 @pytest.mark.parametrize("z", [5, 9])
 def test_relief_is_tight(z):
     geo = drive(z).geometry()
-    smaller = geo.check_clearances(360, relief_radius=geo.relief.exact - 0.01)
+    smaller = check_clearances(geo, 360, relief_radius=geo.relief.exact - 0.01)
     assert smaller.disc < 0.1 - 0.005 and abs(smaller.phi_disc) < geo.dims.phi0
 
 
