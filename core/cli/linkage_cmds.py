@@ -1,13 +1,13 @@
 """CLI handlers for linkage elements: ``analyze`` (CSV table + summary) and ``centrodes``."""
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
+from ..analyses.linkage_report import linkage_summary
 from ..analyses.table import Table
 from ..model.linkage import Linkage
 from ..solver.diagnostics import diagnose
+from ..solver.plan import compile_plan
 from . import Analysis
 
 
@@ -30,19 +30,14 @@ def analysis_table(linkage: Linkage, sol) -> Table:
 
 def analyze(linkage: Linkage, samples: int | None) -> Analysis:
     """Solve one revolution at order 2; table per sample and the diagnostics summary."""
-    plan = linkage.compile()
+    plan = compile_plan(linkage)
     sol = plan.sweep(samples=samples or linkage.samples, order=2)
-    diag = diagnose(sol)
-    head = (f"linkage {linkage.id!r}: {len(linkage.links)} links, {len(linkage.joints)} joints, driver "
-            f"{linkage.driver.link!r} at {linkage.driver.speed_rpm:g} rpm "
-            f"({'CCW' if linkage.driver.speed_rpm > 0 else 'CW'}), drawn input "
-            f"{math.degrees(plan.theta0):.4f}°")
-    return Analysis(analysis_table(linkage, sol), head + "\n" + str(diag))
+    return Analysis(analysis_table(linkage, sol), linkage_summary(linkage, plan, diagnose(sol)))
 
 
 def centrodes(linkage: Linkage, link: str, relative_to: str | None, samples: int | None) -> Table:
     """Instant centres of ``link`` (relative to the frame or ``relative_to``) as a CSV table."""
     from ..analyses.centrodes import linkage_centrodes
 
-    sol = linkage.compile().sweep(samples=samples or linkage.samples, order=1)
+    sol = compile_plan(linkage).sweep(samples=samples or linkage.samples, order=1)
     return linkage_centrodes(sol, linkage, link, relative_to).table()

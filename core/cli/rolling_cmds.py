@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import os
 
+from ..analyses.rolling_report import summary
 from ..analyses.rolling_synthesis import synthesize as _synthesize
 from ..io.dxf_rolling import export_rolling
 from ..model.rolling_lever import RollingLever
@@ -16,7 +17,7 @@ from . import Analysis
 def synthesize(element: RollingLever) -> Analysis:
     """Synthesise the element's profiles with its method and N; table and summary (with slip measures)."""
     res = _synthesize(element, measures=True)
-    return Analysis(res.table(), res.summary())
+    return Analysis(res.table(), summary(res))
 
 
 def export(element: RollingLever, path: str | os.PathLike, tolerance: float) -> str:
