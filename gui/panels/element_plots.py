@@ -16,7 +16,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from mechsketch.core.io.table import Table
+from mechsketch.core.analyses.geneva_report import analysis_table
+from mechsketch.core.analyses.table import Table
 
 from ..controller import SceneController
 from ..canvas.pose import map_frame
@@ -63,8 +64,6 @@ def geneva_plot_data(controller: SceneController, res: GenevaResult) -> PlotData
     data.frame_x = _frame_x(controller, x)
 
     def table() -> Table:
-        from mechsketch.core.cli.geneva_cmds import analysis_table
-
         return analysis_table(kin, con)
 
     data.make_table = table
