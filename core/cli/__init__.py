@@ -14,6 +14,7 @@ from typing import Any, Sequence
 from ..errors import MechsketchError
 from ..io.scene_file import load_scene, validate_file
 from ..io.table import write_csv
+from ..solver.plan import compile_plan
 
 #: element type -> module implementing its commands. A module may define
 #: ``analyze(element, samples) -> Analysis``, ``export(element, path, tolerance) -> str``,
@@ -105,7 +106,7 @@ def _structure_problems(scene) -> list:
     for k, el in enumerate(scene.elements):
         if isinstance(el, Linkage):
             try:
-                el.compile()
+                compile_plan(el)
             except StructureError as exc:
                 who = ", ".join(exc.joints) if exc.joints else None
                 out.append(Problem(f"$.elements[{k}]", str(exc) + (f" [joints {who}]" if who else ""), el.id))

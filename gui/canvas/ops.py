@@ -11,6 +11,7 @@ from typing import Iterable
 
 from mechsketch.core.errors import MechsketchError
 from mechsketch.core.model.linkage import Driver, Joint, JointKind, Link, Linkage
+from mechsketch.core.solver.plan import compile_plan
 
 from .events import XY
 
@@ -76,7 +77,7 @@ def on_ground(linkage: Linkage, joint_id: str) -> bool:
 def structure_error(linkage: Linkage) -> str | None:
     """The message of compiling ``linkage`` (None if it compiles)."""
     try:
-        linkage.compile()
+        compile_plan(linkage)
     except (MechsketchError, KeyError, ValueError, StopIteration, ZeroDivisionError) as exc:
         return exc.args[0] if isinstance(exc, KeyError) and exc.args else str(exc)
     return None

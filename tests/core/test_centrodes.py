@@ -11,13 +11,14 @@ from mechsketch.core import load_scene
 from mechsketch.core.analyses.centrodes import linkage_centrodes
 from mechsketch.core.cli import main
 from mechsketch.core.errors import GeometryError
+from mechsketch.core.solver.plan import compile_plan
 from mechsketch.resources import example_path
 
 
 @pytest.fixture(scope="module")
 def fourbar():
     lk = load_scene(example_path("fourbar_coupler_centrodes")).element("fourbar")
-    return lk, lk.solve(samples=720, order=1)
+    return lk, compile_plan(lk).sweep(samples=720, order=1)
 
 
 def _line_distance(p, a, b):
@@ -93,7 +94,7 @@ def test_the_moving_centrode_rolls_on_the_fixed_one(fourbar):
 
 def test_pure_translation_is_flagged_not_an_error():
     lk = load_scene(example_path("slider_crank_offset")).elements[0]
-    sol = lk.solve(samples=36, order=1)
+    sol = compile_plan(lk).sweep(samples=36, order=1)
     c = linkage_centrodes(sol, lk, "slider")
     assert not c.valid.any() and c.translation.all()
     assert np.isnan(c.P).all() and np.isnan(c.p).all()

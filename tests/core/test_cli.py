@@ -16,6 +16,7 @@ import pytest
 import linkage_builders as LB
 from mechsketch.core import load_scene
 from mechsketch.core.cli import main
+from mechsketch.core.solver.plan import compile_plan
 from mechsketch.resources import example_path
 
 MECHSKETCH = Path(sys.executable).with_name("mechsketch")
@@ -60,7 +61,7 @@ def test_analyze_csv_columns_rows_and_values(capsys, name, n):
     assert len(rows) == n
     data = np.array([[float(v) for v in r] for r in rows])
     col = {c: data[:, i] for i, c in enumerate(head)}
-    sol = lk.solve(samples=n, order=2)
+    sol = compile_plan(lk).sweep(samples=n, order=2)
     # row 0 is the drawn pose; rows advance by 2π/N in the driver's direction; t = k·T/N
     assert col["t"][0] == 0.0 and col["input"][0] == pytest.approx(math.atan2(
         *np.subtract(lk.joint(lk.link(lk.driver.link).joints[1]).at, lk.joint(lk.driver.pivot).at)[::-1]), abs=1e-15)

@@ -8,6 +8,7 @@ import pytest
 from mechsketch.core import (Driver, Joint, JointKind, Link, Linkage, Scene, SceneFormatError,
                              StructureError, load_scene, save_scene)
 from mechsketch.core.cli import main
+from mechsketch.core.solver.plan import compile_plan
 from mechsketch.resources import example_path
 
 
@@ -26,7 +27,7 @@ def test_a_draft_without_crank_saves_as_null_driver_and_reopens(tmp_path):
     assert not again.has_driver
     assert [j.at for j in again.joints] == [(0.0, 0.0), (40.0, 0.0)]
     with pytest.raises(StructureError, match="no driver yet.*crank"):
-        again.compile()
+        compile_plan(again)
     save_scene(Scene((again,)), tmp_path / "again.json")
     assert (tmp_path / "again.json").read_text() == path.read_text()
 
@@ -82,4 +83,4 @@ def test_nearly_coincident_joints_far_from_the_origin_are_distinct():
     from mechsketch.core import loads_scene
 
     lk = loads_scene(json.dumps(doc)).elements[0]
-    assert lk.solve(samples=90).valid.all()
+    assert compile_plan(lk).sweep(samples=90).valid.all()

@@ -14,6 +14,7 @@ import solution_checks as CK
 from mechsketch.core import load_scene, validate_file
 from mechsketch.core.cli import main
 from mechsketch.core.solver.diagnostics import diagnose
+from mechsketch.core.solver.plan import compile_plan
 from mechsketch.resources import example_path, example_paths
 
 PATHS = example_paths()
@@ -36,7 +37,7 @@ LINKAGE_EXAMPLES = [(p, e.id) for p in PATHS for e in linkages(p)]
 @pytest.mark.parametrize("path,eid", LINKAGE_EXAMPLES, ids=[f"{p.stem}:{e}" for p, e in LINKAGE_EXAMPLES])
 def test_example_linkage_solves_accurately(path, eid, capsys):
     lk = load_scene(path).element(eid)
-    sol = lk.solve(samples=lk.samples, order=2)
+    sol = compile_plan(lk).sweep(samples=lk.samples, order=2)
     size = LB.size_of(lk)
     assert len(sol) == lk.samples
     assert sol.valid[0]
@@ -68,12 +69,12 @@ def test_crank_rocker_numbers():
     assert abs(at["C"] - at["B"]) == pytest.approx(140, abs=1e-8)
     assert abs(at["C"] - at["D"]) == pytest.approx(120, abs=1e-8)
     assert lk.driver.omega == pytest.approx(10.0, rel=1e-14)
-    sol = lk.solve(samples=360)
+    sol = compile_plan(lk).sweep(samples=360)
     assert diagnose(sol).groups[0][2] == 1.0
     # the rocker's limit positions: B on line AD, |BD| = coupler ∓ crank = 100 and 180
     phi_lo = math.degrees(math.acos((160 ** 2 + 120 ** 2 - 100 ** 2) / (2 * 160 * 120)))
     phi_hi = math.degrees(math.acos((160 ** 2 + 120 ** 2 - 180 ** 2) / (2 * 160 * 120)))
-    fine = lk.compile().evaluate(np.linspace(0, 2 * math.pi, 200001), order=0)
+    fine = compile_plan(lk).evaluate(np.linspace(0, 2 * math.pi, 200001), order=0)
     rocker = np.degrees(fine.angle("rocker"))     # angle of D→C from +x = 180° − ∠CDA
     assert rocker.min() == pytest.approx(180 - phi_hi, abs=1e-6)
     assert rocker.max() == pytest.approx(180 - phi_lo, abs=1e-6)
@@ -82,11 +83,11 @@ def test_crank_rocker_numbers():
 def test_offset_slider_crank_stroke():
     """r = 40, L = 160, e = 20: stroke √((L+r)² − e²) − √((L−r)² − e²)."""
     lk = example("slider_crank_offset")
-    x = lk.compile().evaluate(np.linspace(0, 2 * math.pi, 400001), order=0).position("C")[:, 0]
+    x = compile_plan(lk).evaluate(np.linspace(0, 2 * math.pi, 400001), order=0).position("C")[:, 0]
     stroke = math.sqrt(200 ** 2 - 20 ** 2) - math.sqrt(120 ** 2 - 20 ** 2)
     assert x.max() - x.min() == pytest.approx(stroke, abs=1e-8)
     assert x.max() == pytest.approx(math.sqrt(200 ** 2 - 20 ** 2), abs=1e-9)
-    sol = lk.solve(samples=360)
+    sol = compile_plan(lk).sweep(samples=360)
     assert np.allclose(sol.position("C")[:, 1], 20.0, atol=1e-12)
 
 
@@ -94,14 +95,14 @@ def test_inverted_slider_crank_swing():
     """Crank 40 about A, rocker pivot C 100 away, slide axis through C: the rocker swings
     ±asin(40/100) about the line C→A."""
     lk = example("inverted_slider_crank")
-    fine = lk.compile().evaluate(np.linspace(0, 2 * math.pi, 400001), order=0)
+    fine = compile_plan(lk).evaluate(np.linspace(0, 2 * math.pi, 400001), order=0)
     a = fine.angle("rocker")
     assert a.max() - a.min() == pytest.approx(2 * math.asin(0.4), abs=1e-8)
 
 
 def test_sixbar_block_stays_on_the_rocker_guide():
     lk = example("sixbar_moving_guide")
-    sol = lk.solve(samples=720)
+    sol = compile_plan(lk).sweep(samples=720)
     D, C, E = (CK._z(sol.position(j)) for j in "DCE")
     q = lk.joint("Q")
     u = CK.link_rotation(sol, lk, "rocker") * LB.e(q.axis_deg)

@@ -10,6 +10,7 @@ import pytest
 
 import linkage_builders as LB
 from mechsketch.core.solver.diagnostics import diagnose
+from mechsketch.core.solver.plan import compile_plan
 
 
 def _z(a):
@@ -21,7 +22,7 @@ def _z(a):
 def test_parallelogram_stays_a_parallelogram_through_both_change_points(theta0, samples):
     mode = 1 if math.sin(math.radians(theta0)) > 0 else -1  # the drawn pose is the parallelogram
     lk = LB.fourbar(crank=40.0, coupler=100.0, rocker=40.0, ground=100.0, theta0=theta0, mode=mode)
-    sol = lk.solve(samples=samples, order=2)
+    sol = compile_plan(lk).sweep(samples=samples, order=2)
     assert sol.valid.all()
     # closed form of the parallelogram branch: C = D + (B − A), so the coupler keeps its angle
     A, B, C, D = (_z(sol.position(j)) for j in "ABCD")
@@ -33,14 +34,14 @@ def test_parallelogram_stays_a_parallelogram_through_both_change_points(theta0, 
     assert np.allclose(sol.omega("rocker")[away], sol.omega("crank")[away], atol=1e-9 * 10)
     clear = sol.conditioning("RRR(coupler,rocker)") > 1e-2  # accelerations lose eps/sin²μ near it
     assert np.allclose(sol.alpha("rocker")[clear], 0.0, atol=1e-6)
-    offsets = sorted(np.degrees(lk.compile().branch_points()["RRR(coupler,rocker)"]))
+    offsets = sorted(np.degrees(compile_plan(lk).branch_points()["RRR(coupler,rocker)"]))
     expect = sorted(((0.0 - theta0) % 360.0, (180.0 - theta0) % 360.0))
     assert offsets == pytest.approx(expect, abs=1e-4)
 
 
 def test_change_points_are_reported_as_such():
     lk = LB.fourbar(crank=40.0, coupler=100.0, rocker=40.0, ground=100.0, theta0=30.0)
-    d = diagnose(lk.solve(samples=720, order=2))
+    d = diagnose(compile_plan(lk).sweep(samples=720, order=2))
     kinds = sorted((round(math.degrees(p.input)) % 360, p.kind) for p in d.dead_points)
     assert kinds == [(0, "change point"), (180, "change point")]
     assert d.full_turn
@@ -50,7 +51,7 @@ def test_velocity_is_continuous_across_a_change_point():
     """On the smooth branch the closed-form velocity equals the finite difference of positions
     on both sides of the change point (on the crossed branch it would jump)."""
     lk = LB.fourbar(crank=40.0, coupler=100.0, rocker=40.0, ground=100.0, theta0=30.0)
-    plan = lk.compile()
+    plan = compile_plan(lk)
     h = 1e-5
     for side in (-1e-3, 1e-3):
         x = np.array([math.pi + side])
@@ -64,7 +65,7 @@ def test_velocity_is_continuous_across_a_change_point():
 def test_a_near_miss_is_not_a_branch_point(gap):
     """Grashof four-bar with s + l = p + q − gap: it passes close to the toggle and keeps its mode."""
     lk = LB.fourbar(crank=40.0, coupler=100.0, rocker=40.0 - gap, ground=100.0, theta0=30.0)
-    plan = lk.compile()
+    plan = compile_plan(lk)
     sol = plan.sweep(3600, order=0)
     branches = plan.branch_points()["RRR(coupler,rocker)"]
     L = _z(sol.position("C")) - _z(sol.position("B"))
@@ -77,7 +78,7 @@ def test_a_near_miss_is_not_a_branch_point(gap):
 def test_kite_outer_joints_pass_through_each_other_without_a_jump():
     """Rhombus four-bar: B passes through D; the coupler keeps its direction (no 2·length jump)."""
     lk = LB.fourbar(crank=60.0, coupler=60.0, rocker=60.0, ground=60.0, theta0=36.67)
-    x = lk.compile().theta0 + np.linspace(0.0, 2 * math.pi, 7200, endpoint=False) + 1e-7
-    sol = lk.compile().evaluate(x, order=0)
+    x = compile_plan(lk).theta0 + np.linspace(0.0, 2 * math.pi, 7200, endpoint=False) + 1e-7
+    sol = compile_plan(lk).evaluate(x, order=0)
     C = _z(sol.position("C"))
     assert np.max(np.abs(np.diff(C[sol.valid]))) < 2 * 60.0 * (2 * math.pi / 7200) * 1.5

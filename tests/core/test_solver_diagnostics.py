@@ -11,6 +11,7 @@ import pytest
 import linkage_builders as LB
 from mechsketch.core import load_scene
 from mechsketch.core.solver.diagnostics import diagnose
+from mechsketch.core.solver.plan import compile_plan
 from mechsketch.resources import example_path
 
 
@@ -32,7 +33,7 @@ def fourbar_limit(lk) -> float:
 def test_double_rocker_reachable_range_and_limits(rpm):
     lk = load_scene(example_path("double_rocker")).elements[0]
     lk = lk.with_driver(lk.driver.__class__(lk.driver.link, lk.driver.pivot, rpm))
-    sol = lk.solve(samples=720)
+    sol = compile_plan(lk).sweep(samples=720)
     d = diagnose(sol)
     lim = fourbar_limit(lk)
     assert not d.full_turn
@@ -59,7 +60,7 @@ def test_double_rocker_reachable_range_and_limits(rpm):
 
 def test_slider_crank_limits():
     lk = LB.slider_crank(crank=40.0, rod=30.0, offset=20.0, theta0=10.0)
-    sol = lk.solve(samples=360)
+    sol = compile_plan(lk).sweep(samples=360)
     d = diagnose(sol)
     lim = math.asin(-0.25)             # B_y − e = −rod
     (lo, hi), = d.reachable
@@ -71,7 +72,7 @@ def test_slider_crank_limits():
 def test_never_assemblable_is_reported():
     """Samples taken only inside the double rocker's gap: nothing reachable, and said so."""
     lk = load_scene(example_path("double_rocker")).elements[0]
-    sol = lk.compile().evaluate(np.radians(np.linspace(140.0, 220.0, 41)), order=2)
+    sol = compile_plan(lk).evaluate(np.radians(np.linspace(140.0, 220.0, 41)), order=2)
     assert not sol.valid.any()
     d = diagnose(sol)
     assert d.reachable == [] and d.valid_fraction == 0.0 and not d.full_turn
@@ -80,7 +81,7 @@ def test_never_assemblable_is_reported():
 
 def test_crank_rocker_summary_numbers():
     lk = load_scene(example_path("fourbar_crank_rocker")).elements[0]
-    d = diagnose(lk.solve(samples=360))
+    d = diagnose(compile_plan(lk).sweep(samples=360))
     assert d.full_turn and d.mobility == 1 and d.valid_fraction == 1.0
     assert d.dead_points == []
     (name, (lo, hi)), = d.transmission_deg.items()
@@ -92,16 +93,16 @@ def test_crank_rocker_summary_numbers():
 
 
 def test_modes_in_the_summary():
-    d = diagnose(LB.sixbar_guide(-1).solve(samples=90))
+    d = diagnose(compile_plan(LB.sixbar_guide(-1)).sweep(samples=90))
     assert [(k, m) for _, k, m in d.groups] == [("RRR", 1.0), ("RRP", -1.0)]
-    d = diagnose(LB.inverted_slider_crank(mode=-1, offset=4.0).solve(samples=90))
+    d = diagnose(compile_plan(LB.inverted_slider_crank(mode=-1, offset=4.0)).sweep(samples=90))
     assert [(k, m) for _, k, m in d.groups] == [("RPR", -1.0)]
 
 
 def test_prp_parallel_guides_are_assembly_limits():
     """The crank's guide turns parallel to the fixed one twice per turn: two tiny gaps."""
     lk = LB.prp_linkage()
-    sol = lk.solve(samples=360)
+    sol = compile_plan(lk).sweep(samples=360)
     d = diagnose(sol)
     limits = sorted(p.input for p in d.dead_points if p.kind == "limit")
     assert len(limits) == 4

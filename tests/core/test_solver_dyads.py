@@ -15,6 +15,7 @@ import pytest
 import linkage_builders as LB
 import reference as R
 import solution_checks as CK
+from mechsketch.core.solver.plan import compile_plan
 
 POS_TOL = 1e-13     # relative to the mechanism's size
 ANG_TOL = 1e-13     # rad
@@ -75,7 +76,7 @@ IDS = list(CASES)
 @functools.lru_cache(maxsize=None)
 def solved(case: str, samples: int = 360):
     lk = CASES[case][0]()
-    plan = lk.compile()
+    plan = compile_plan(lk)
     return lk, plan, plan.sweep(samples=samples, order=2)
 
 
@@ -209,7 +210,7 @@ def test_mirrored_fourbar_is_the_other_mode():
     """Mirroring C across B–D gives the other branch: same B, D paths, C reflected at sample 0."""
     a = LB.fourbar()
     b = LB.mirrored(a, "C", "B", "D")
-    sa, sb = a.solve(samples=360), b.solve(samples=360)
+    sa, sb = compile_plan(a).sweep(samples=360), compile_plan(b).sweep(samples=360)
     assert np.allclose(sa.position("B"), sb.position("B"), atol=1e-12)
     assert not np.allclose(sa.position("C"), sb.position("C"), atol=1.0)
     g = sb.groups[0]

@@ -18,6 +18,7 @@ import linkage_builders as LB
 import reference as R
 import solution_checks as CK
 from mechsketch.core.solver.diagnostics import diagnose
+from mechsketch.core.solver.plan import compile_plan
 
 EPS = 2.220446049250313e-16
 GAPS = (1e-6, 1e-10)
@@ -53,7 +54,7 @@ TOGGLE_IDS = [(k, g, m) for k in ("RRR", "RRP", "RPR") for g in GAPS for m in (1
 @functools.lru_cache(maxsize=None)
 def toggle_solved(kind, gap, mode):
     lk, t = toggle_case(kind, gap, mode)
-    plan = lk.compile()
+    plan = compile_plan(lk)
     return lk, t, plan, plan.sweep(360, order=2)
 
 
@@ -175,7 +176,7 @@ RATIO_CASES = {
 @pytest.mark.parametrize("name", list(RATIO_CASES))
 def test_extreme_length_ratios(name):
     lk = RATIO_CASES[name]()
-    sol = lk.solve(samples=360)
+    sol = compile_plan(lk).sweep(samples=360)
     size = LB.size_of(lk)
     ok = np.flatnonzero(sol.valid & (np.nan_to_num(sol.conditioning(sol.groups[0].name)) > 1e-3))
     assert len(ok) > 300
@@ -206,7 +207,7 @@ FAR_CASES = {
 def test_translated_by_1e6_equals_untranslated(name):
     near = FAR_CASES[name]()
     far = LB.translated(near, *FAR)
-    s1, s2 = near.solve(samples=360), far.solve(samples=360)
+    s1, s2 = compile_plan(near).sweep(samples=360), compile_plan(far).sweep(samples=360)
     both = s1.valid & s2.valid
     for g in s1.groups:
         both &= np.nan_to_num(s1.conditioning(g.name)) > 1e-3
@@ -244,7 +245,7 @@ def test_prp_at_exactly_parallel_guides_is_not_assembled(shift):
     exactly parallel to the fixed one. There the lines do not meet (in float the intersection is
     rounding noise ~1e16 mm away): NaN and valid False, never a 'valid' pose whose loop is open."""
     lk = LB.translated(LB.prp_linkage(), *shift)
-    sol = lk.solve(samples=360)
+    sol = compile_plan(lk).sweep(samples=360)
     assert not sol.valid[60] and not sol.valid[240]
     assert np.isnan(sol.position("L")[[60, 240]]).all()
     assert sol.valid.sum() >= 356
@@ -256,7 +257,7 @@ def test_prp_at_exactly_parallel_guides_is_not_assembled(shift):
 # exact change points (a toggle touched with zero gap: a bifurcation of the assembly)
 def _max_jump_ratio(lk, x):
     """Largest step between neighbouring samples over what |v| and |a| allow (≤ 1: no jump)."""
-    plan = lk.compile()
+    plan = compile_plan(lk)
     ev = plan.evaluate(x, order=2)
     dt = abs(x[1] - x[0]) / abs(plan.omega)
     worst = 0.0
@@ -277,7 +278,7 @@ def test_parallelogram_change_points_keep_positions_continuous():
     is kept, so the motion continues without a jump (on the crossed branch after the first
     change point: the classic parallelogram/antiparallelogram bifurcation)."""
     lk = LB.fourbar(crank=50.0, coupler=150.0, rocker=50.0, ground=150.0, theta0=37.0)
-    sol = lk.solve(samples=720)
+    sol = compile_plan(lk).sweep(samples=720)
     # only the samples exactly at θ = 0, π may fall into the ~1e-8 rad rounding-wide gap there
     at_change = np.abs(np.sin(sol.input)) < 1e-9
     assert at_change.sum() == 2 and sol.valid[~at_change].all()
@@ -288,13 +289,13 @@ def test_parallelogram_change_points_keep_positions_continuous():
 
 def test_rhombus_four_bar_passes_b_through_d_without_a_jump():
     lk = LB.fourbar(crank=60.0, coupler=60.0, rocker=60.0, ground=60.0, theta0=36.67)
-    x = lk.compile().theta0 + np.linspace(0.0, 2 * math.pi, 7200, endpoint=False) + 1e-7
+    x = compile_plan(lk).theta0 + np.linspace(0.0, 2 * math.pi, 7200, endpoint=False) + 1e-7
     assert _max_jump_ratio(lk, x) <= 1.0
 
 
 def test_inverted_slider_crank_pin_through_the_pivot_without_a_jump():
     lk = LB.inverted_slider_crank(crank=50.0, ground=50.0, offset=0.0, theta0=40.0)
-    x = lk.compile().theta0 + np.linspace(0.0, 2 * math.pi, 7200, endpoint=False) + 1e-7
+    x = compile_plan(lk).theta0 + np.linspace(0.0, 2 * math.pi, 7200, endpoint=False) + 1e-7
     assert _max_jump_ratio(lk, x) <= 1.0
 
 
@@ -306,11 +307,11 @@ def test_rhombus_drawn_on_grid_angles_never_gives_an_open_loop(theta0):
     returned as valid must close its loop (it used to be open by up to 96 mm)."""
     lk = LB.fourbar(crank=60.0, coupler=60.0, rocker=60.0, ground=60.0, theta0=theta0)
     size = LB.size_of(lk)
-    sol = lk.solve(samples=360)
+    sol = compile_plan(lk).sweep(samples=360)
     assert CK.closure_error(lk, sol) <= 1e-9 * size
     assert sol.residual() <= 1e-9 * size
     assert sol.valid.sum() >= 359
     d = np.array([1e-15, 1e-14, 1e-13, 1e-12, 1e-11, 1e-10, 1e-9, 1e-8, 1e-7])
-    ev = lk.compile().evaluate(np.concatenate([d, -d]), order=0)
+    ev = compile_plan(lk).evaluate(np.concatenate([d, -d]), order=0)
     assert ev.valid.all()
     assert CK.closure_error(lk, ev) <= 1e-9 * size

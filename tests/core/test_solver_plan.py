@@ -40,13 +40,13 @@ def _counting(plan):
 ])
 def test_only_the_groups_the_requested_joints_depend_on_are_evaluated(joints, expected):
     lk = LB.two_dyads()
-    plan = lk.compile()
+    plan = compile_plan(lk)
     ran = _counting(plan)
     x = np.linspace(0.0, 2 * math.pi, 50)
     sol = plan.evaluate(x, order=2, joints=joints)
     assert sorted(g.name for g in sol.groups) == sorted(expected)
     assert set(ran) == set(expected)  # (branch points are searched on the same groups only)
-    full = lk.compile().evaluate(x, order=2)
+    full = compile_plan(lk).evaluate(x, order=2)
     for j in joints or lk.joint_ids:
         for f in ("position", "velocity", "acceleration"):
             assert np.array_equal(getattr(sol, f)(j), getattr(full, f)(j), equal_nan=True), (j, f)
@@ -57,11 +57,11 @@ def test_only_the_groups_the_requested_joints_depend_on_are_evaluated(joints, ex
 
 
 def test_dependencies_through_a_moving_guide_and_a_compound_hinge():
-    six = example("sixbar_moving_guide").compile()
+    six = compile_plan(example("sixbar_moving_guide"))
     assert [g.name for g in six.evaluate([0.3], joints=["C"]).groups] == ["RRR(coupler,rocker)"]
     # the block slides on the rocker: E needs the four-bar first
     assert [g.kind for g in six.evaluate([0.3], joints=["E"]).groups] == ["RRR", "RRP"]
-    comp = LB.sixbar_compound().compile()
+    comp = compile_plan(LB.sixbar_compound())
     assert [g.kind for g in comp.evaluate([0.3], joints=["C"]).groups] == ["RRR"]
     assert [g.kind for g in comp.evaluate([0.3], joints=["S"]).groups] == ["RRR", "RRP"]
     with pytest.raises(KeyError, match="no joint"):
@@ -70,14 +70,14 @@ def test_dependencies_through_a_moving_guide_and_a_compound_hinge():
 
 def test_public_one_line_api():
     scene = load_scene(example_path("slider_crank_offset"))
-    sol = scene.element("slider_crank").solve(samples=90, order=2)
+    sol = compile_plan(scene.element("slider_crank")).sweep(samples=90, order=2)
     assert len(sol) == 90 and sol.valid.all()
     for f, shape in (("position", (90, 2)), ("velocity", (90, 2)), ("acceleration", (90, 2))):
         assert getattr(sol, f)("C").shape == shape
     for f in ("angle", "omega", "alpha"):
         assert getattr(sol, f)("rod").shape == (90,)
     assert sol.input.shape == sol.valid.shape == (90,)
-    part = scene.element("slider_crank").solve(samples=90, order=0, joints=["B"])
+    part = compile_plan(scene.element("slider_crank")).sweep(samples=90, order=0, joints=["B"])
     assert part.groups == []
     assert np.array_equal(part.position("B"), sol.position("B"))
 
@@ -87,7 +87,7 @@ def test_public_one_line_api():
 def test_sweep_starts_at_drawn_pose_and_follows_the_driver(rpm):
     lk = LB.fourbar(theta0=135.0, rpm=rpm)
     n = 72
-    sol = lk.solve(samples=n)
+    sol = compile_plan(lk).sweep(samples=n)
     sgn = math.copysign(1.0, rpm)
     assert sol.input[0] == pytest.approx(math.radians(135.0), abs=1e-15)
     assert np.allclose(np.diff(sol.input), sgn * 2 * math.pi / n, rtol=0, atol=1e-13)
@@ -103,7 +103,7 @@ def test_sweep_starts_at_drawn_pose_and_follows_the_driver(rpm):
 
 
 def test_sweep_argument_errors():
-    plan = LB.fourbar().compile()
+    plan = compile_plan(LB.fourbar())
     with pytest.raises(ValueError, match="samples"):
         plan.sweep(samples=1)
     with pytest.raises(ValueError, match="order"):
@@ -111,7 +111,7 @@ def test_sweep_argument_errors():
 
 
 def test_evaluate_shapes_and_time():
-    plan = LB.fourbar().compile()
+    plan = compile_plan(LB.fourbar())
     s = plan.evaluate(1.0, order=1)
     assert s.position("C").shape == (1, 2)
     x = [1.0, 1.5, 2.0]
@@ -124,7 +124,7 @@ def test_evaluate_shapes_and_time():
 # -- link angles -----------------------------------------------------------------------------------
 def test_link_angles_are_first_to_second_joint_and_unwrapped():
     lk = LB.fourbar(crank=60, coupler=110, rocker=100, ground=30, theta0=160, rpm=-45.0)  # drag link
-    sol = lk.solve(samples=360)
+    sol = compile_plan(lk).sweep(samples=360)
     for link in lk.moving_links:
         a, b = lk.link(link).joints[:2]
         d = sol.position(b) - sol.position(a)
@@ -142,11 +142,11 @@ def test_link_angles_are_first_to_second_joint_and_unwrapped():
 
 def test_angle_of_a_block_whose_joints_coincide_is_its_rotation():
     lk = example("sixbar_moving_guide")   # block (E, Q): both at the same drawn point
-    sol = lk.solve(samples=120)
+    sol = compile_plan(lk).sweep(samples=120)
     assert np.allclose(sol.angle("block"), sol.angle("rocker") - sol.angle("rocker")[0], atol=1e-13)
     # the driver listed tip-first: its angle is input + π
     flipped = lk.with_link(lk.link("crank").__class__("crank", ("B", "A")))
-    s2 = flipped.solve(samples=120)
+    s2 = compile_plan(flipped).sweep(samples=120)
     assert np.allclose(np.angle(np.exp(1j * (s2.angle("crank") - s2.input - math.pi))), 0, atol=1e-13)
     assert np.allclose(np.diff(s2.angle("crank")), np.diff(s2.input), atol=1e-13)
     assert np.allclose(s2.position("E"), sol.position("E"), atol=1e-12)
@@ -154,7 +154,7 @@ def test_angle_of_a_block_whose_joints_coincide_is_its_rotation():
 
 def test_coupler_point_moves_with_its_link():
     lk = example("fourbar_crank_rocker")
-    sol = lk.solve(samples=90)
+    sol = compile_plan(lk).sweep(samples=90)
     E0, B0, C0 = (complex(*lk.joint(j).at) for j in "EBC")
     B, C, E = (CK._z(sol.position(j)) for j in "BCE")
     expect = B + (C - B) * (E0 - B0) / (C0 - B0)
@@ -165,7 +165,7 @@ def test_coupler_point_moves_with_its_link():
 # -- infeasible samples ------------------------------------------------------------------------------
 def test_double_rocker_gap_is_nan_and_invalid_exactly_where_it_cannot_assemble():
     lk = example("double_rocker")
-    sol = lk.solve(samples=720)
+    sol = compile_plan(lk).sweep(samples=720)
     at = {j.id: complex(*j.at) for j in lk.joints}
     r, g = abs(at["B"] - at["A"]), abs(at["D"] - at["A"])
     reach = abs(at["C"] - at["B"]) + abs(at["C"] - at["D"])
@@ -188,7 +188,7 @@ def test_double_rocker_gap_is_nan_and_invalid_exactly_where_it_cannot_assemble()
 
 def test_slider_crank_that_cannot_turn_fully():
     lk = LB.slider_crank(crank=40.0, rod=30.0, offset=20.0, theta0=10.0)
-    sol = lk.solve(samples=720)
+    sol = compile_plan(lk).sweep(samples=720)
     # B_y − e must stay within ±rod: sin θ ∈ [(e − rod)/r, (e + rod)/r] = [−0.25, 1.25]
     expect = np.sin(sol.input) >= -0.25
     assert np.array_equal(sol.valid, expect)
@@ -198,7 +198,7 @@ def test_slider_crank_that_cannot_turn_fully():
 # -- transmission angle and conditioning ------------------------------------------------------------
 def test_transmission_angle_and_conditioning_of_the_crank_rocker():
     lk = example("fourbar_crank_rocker")
-    sol = lk.solve(samples=360)
+    sol = compile_plan(lk).sweep(samples=360)
     g = sol.groups[0].name
     mu = sol.transmission_angle(g)
     B, C, D = (CK._z(sol.position(j)) for j in "BCD")
@@ -211,7 +211,7 @@ def test_transmission_angle_and_conditioning_of_the_crank_rocker():
     assert np.degrees(mu.min()) == pytest.approx(lo, abs=1e-6)
     assert np.degrees(mu.max()) == pytest.approx(hi, abs=1e-6)
     with pytest.raises(ValueError, match="RRR"):
-        s2 = example("slider_crank_offset").solve(samples=10)
+        s2 = compile_plan(example("slider_crank_offset")).sweep(samples=10)
         s2.transmission_angle(s2.groups[0].name)
 
 
@@ -219,7 +219,7 @@ def test_transmission_angle_and_conditioning_of_the_crank_rocker():
 def test_conditioning_of_other_kinds_is_the_sine_between_the_velocity_columns(case):
     lk = {"slider": lambda: LB.slider_crank(xi=150.0, pin=2 + 3j), "inverted": lambda: LB.inverted_slider_crank(offset=7.0),
           "prp": lambda: LB.prp_linkage(), "yoke": lambda: LB.scotch_yoke(slot=120.0, guide=200.0)}[case]()
-    sol = lk.solve(samples=90)
+    sol = compile_plan(lk).sweep(samples=90)
     g = sol.groups[0]
     c = sol.conditioning(g.name)
     ok = sol.valid
@@ -241,9 +241,9 @@ def test_conditioning_of_other_kinds_is_the_sine_between_the_velocity_columns(ca
     assert np.allclose(np.broadcast_to(c, expect.shape)[ok], expect[ok], atol=1e-13)
 
 
-def test_compile_plan_is_the_same_as_linkage_compile():
+def test_compile_plan_twice_gives_the_same_plan():
     lk = LB.fourbar()
-    a, b = compile_plan(lk), lk.compile()
+    a, b = compile_plan(lk), compile_plan(lk)
     x = np.linspace(0, 6, 7)
     assert np.array_equal(a.evaluate(x).position("C"), b.evaluate(x).position("C"))
     assert a.mobility == 1
@@ -259,13 +259,13 @@ def test_valid_samples_are_finite(case):
                                  ("D", "R", (60.0, 0.0))],
                      {"ground": ["A", "D"], "crank": ["A", "B"], "coupler": ["B", "C"], "rocker": ["D", "C"]},
                      "ground", "crank", "A")
-        sol = lk.compile().evaluate(np.array([0.0, 0.5]), order=2)
+        sol = compile_plan(lk).evaluate(np.array([0.0, 0.5]), order=2)
         assert list(sol.valid) == [False, True]
     else:
         from dataclasses import replace
         lk = LB.fourbar()
         lk = replace(lk, joints=tuple(j.moved((j.at[0] * 1e154, j.at[1] * 1e154)) for j in lk.joints))
-        sol = lk.solve(samples=12)
+        sol = compile_plan(lk).sweep(samples=12)
     for j in lk.joint_ids:
         assert np.isfinite(sol.position(j)[sol.valid]).all(), j
     for g in sol.groups:
@@ -291,6 +291,6 @@ def test_residual_sees_a_stretched_link(monkeypatch):
         out.state_j.rot = (L - H) / (l0 - h0)
         return out
     monkeypatch.setattr(kernels, "rrr", stretched)
-    sol = lk.solve(samples=36)
+    sol = compile_plan(lk).sweep(samples=36)
     assert CK.closure_error(lk, sol) > 1e-4            # 140 mm · 1e-6
     assert sol.residual() > 1e-4

@@ -17,6 +17,8 @@ from hypothesis import strategies as st
 import linkage_builders as LB
 import reference as R
 import solution_checks as CK
+from mechsketch.core.model.linkage import Linkage
+from mechsketch.core.solver.plan import compile_plan
 
 N_EXAMPLES = int(os.environ.get("MECHSKETCH_PROPERTY_EXAMPLES", "40"))
 SETTINGS = settings(max_examples=N_EXAMPLES, deadline=None, derandomize="MECHSKETCH_PROPERTY_EXAMPLES" not in os.environ,
@@ -34,22 +36,23 @@ def build_or_reject(_builder, **kw):
     drawn at one point, which a scene file may not contain either (GeometryError, a ValueError)."""
     try:
         out = _builder(**kw)
-        if hasattr(out, "compile"):
-            out.compile()
+        if isinstance(out, Linkage):
+            compile_plan(out)
         return out
     except (ValueError, ZeroDivisionError):
         assume(False)
 
 
 def drawn_conditioning_ok(lk, minimum=0.05):
-    s = lk.compile().evaluate([lk.compile().theta0], order=0)
+    plan = compile_plan(lk)
+    s = plan.evaluate([plan.theta0], order=0)
     return bool(s.valid[0]) and all(float(s.conditioning(g.name)[0]) > minimum for g in s.groups)
 
 
 def check(lk, samples=120, continuation=False, mp_samples=2):
     size = LB.size_of(lk)
     assume(drawn_conditioning_ok(lk))
-    plan = lk.compile()
+    plan = compile_plan(lk)
     sol = plan.sweep(samples=samples, order=2)
     # the drawn pose is sample 0
     assert sol.valid[0]

@@ -17,6 +17,7 @@ import pytest
 import linkage_builders as LB
 import reference as R
 import solution_checks as CK
+from mechsketch.core.solver.plan import compile_plan
 
 LINKAGES = {
     "fourbar": lambda: LB.fourbar(mode=-1, theta0=135.0),
@@ -34,7 +35,7 @@ def test_reference_rates_are_derivatives_of_its_positions(name):
     """q'(t), q''(t) from the differentiated equations == central differences (h = 1e-20,
     80 digits) of the Newton position solve along θ(t) = θ_k + ω t + α t²/2."""
     lk = LINKAGES[name]()
-    sol = lk.solve(samples=12)
+    sol = compile_plan(lk).sweep(samples=12)
     ref = R.MpReference(lk)
     w, al = 2.5, -4.0
     k = 5
@@ -63,7 +64,7 @@ def test_reference_rates_are_derivatives_of_its_positions(name):
 @pytest.mark.parametrize("name", list(LINKAGES))
 def test_reference_positions_close_to_50_digits(name):
     lk = LINKAGES[name]()
-    sol = lk.solve(samples=12)
+    sol = compile_plan(lk).sweep(samples=12)
     ref = R.MpReference(lk)
     st = ref.solve(float(sol.input[7]), 1.0, ref.guess_from(sol, 7))
     with mpmath.workdps(50):
@@ -104,7 +105,7 @@ class _Corrupt:
 
 def test_closure_check_catches_a_stretched_link():
     lk = LB.fourbar()
-    sol = lk.solve(samples=90)
+    sol = compile_plan(lk).sweep(samples=90)
     assert CK.closure_error(lk, sol) < 1e-12
     size = LB.size_of(lk)
 
@@ -119,7 +120,7 @@ def test_closure_check_catches_a_stretched_link():
 
 def test_closure_check_catches_a_P_joint_leaving_its_axis():
     lk = LB.slider_crank(xi=90.0)
-    sol = lk.solve(samples=90)
+    sol = compile_plan(lk).sweep(samples=90)
     assert CK.closure_error(lk, sol) < 1e-12
     bad = _Corrupt(sol, "point", "slider", lambda p: p + np.array([1e-7, 0.0]))
     assert CK.closure_error(lk, bad) > 5e-8
@@ -127,7 +128,7 @@ def test_closure_check_catches_a_P_joint_leaving_its_axis():
 
 def test_compare_catches_small_rate_errors():
     lk = LB.slider_crank(pin=2 + 3j)
-    sol = lk.solve(samples=36)
+    sol = compile_plan(lk).sweep(samples=36)
     pick = [3, 11, 20]
     good = R.relative(R.compare(lk, sol, pick))
     assert max(good[k] for k in ("pos", "vel", "acc", "omega", "alpha")) < 1e-14
@@ -140,7 +141,7 @@ def test_compare_catches_small_rate_errors():
 
 def test_fd_check_catches_a_wrong_velocity():
     lk = LB.fourbar()
-    plan = lk.compile()
+    plan = compile_plan(lk)
     inputs = plan.sweep(24).input
     assert CK.fd_errors(plan, inputs)[:2] == (0, 0)
 
@@ -157,7 +158,7 @@ def test_fd_check_catches_a_wrong_velocity():
 
 def test_continuation_reproduces_drawn_pose_and_stops_at_limits():
     lk = LB.fourbar(crank=90, coupler=95, rocker=85, ground=110, theta0=90.0, mode=-1)
-    sol = lk.solve(samples=72)
+    sol = compile_plan(lk).sweep(samples=72)
     poses, ref = R.continuation(lk, sol.input)
     c = R.continuation_point(ref, poses, "coupler", lk.joint("C").at)
     assert c[0] == complex(*lk.joint("C").at)

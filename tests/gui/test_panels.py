@@ -11,6 +11,7 @@ from PySide6.QtCore import Qt
 from mechsketch import resources
 from mechsketch.core import MoveJoint, load_scene
 from mechsketch.core.solver.flip import flip_group, group_modes
+from mechsketch.core.solver.plan import compile_plan
 from mechsketch.gui.panels.properties import length_edit_moves
 
 from app_fakes import shell  # noqa: F401 - fixture
@@ -138,8 +139,8 @@ def test_flip_twice_is_the_identity_and_keeps_later_groups(name):
             back = flip_group(flipped, group)
             for j0, j1 in zip(lk.joints, back.joints):
                 assert j0.at == pytest.approx(j1.at, abs=1e-6)
-            a = lk.compile().sweep(order=0)
-            b = flipped.compile().sweep(order=0)
+            a = compile_plan(lk).sweep(order=0)
+            b = compile_plan(flipped).sweep(order=0)
             assert a.valid.mean() == pytest.approx(b.valid.mean())
 
 

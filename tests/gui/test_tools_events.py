@@ -8,6 +8,7 @@ import pytest
 from canvas_user import example
 from mechsketch.core.model.edits import AddElement, ReplaceElement
 from mechsketch.core.model.linkage import Joint, JointKind, Link
+from mechsketch.core.solver.plan import compile_plan
 from mechsketch.gui.canvas import ops
 from mechsketch.gui.canvas.events import CanvasEvent, Hit
 from mechsketch.gui.canvas.pose import nearest_valid, pick, walk_to
@@ -228,7 +229,7 @@ def test_a_slider_block_is_shown_on_its_pin_and_rebasing_keeps_the_motion(name, 
     arrays = d.ctx.pose(el).arrays
     moved = rebase(lk, arrays, k)
     assert moved is not lk
-    again = moved.solve(samples=n, order=0)
+    again = compile_plan(moved).sweep(samples=n, order=0)
     for j in lk.joint_ids:
         if lk.joint(j).kind is JointKind.R:
             want = arrays.pos[j][k:k + 1]
