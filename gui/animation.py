@@ -62,7 +62,7 @@ class AnimationPlayer(QObject):
         self._last = 0.0
         self._masks: tuple | None = None
         self._make_actions()
-        controller.solutionsChanged.connect(self._invalidate)
+        controller.changed.connect(self._invalidate)
 
     def _make_actions(self) -> None:
         self.play_action = QAction("Play", self)
@@ -177,7 +177,7 @@ class AnimationPlayer(QObject):
             self.pause()
 
     # -- reading the precomputed arrays -----------------------------------------------------------
-    def _invalidate(self) -> None:
+    def _invalidate(self, *_args) -> None:
         self._masks = None
         if self.is_playing:
             valid, _ = self.masks()

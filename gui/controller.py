@@ -1,46 +1,33 @@
-"""The one place that owns the document, the undo stack and the current solutions.
+"""The Qt adapter over the core workspace: undo stack, selection, animation frame, signals.
 
-Widgets never hold model state: they read ``controller.scene`` and the solve results, and change
-the document only through ``push(edit)`` (one undo command) or a drag preview that ends in one
-command. Signals are past tense and fire once the document and its solutions are consistent.
+The document and every result live in :class:`mechsketch.core.workspace.Workspace`; this class
+only adds what Qt needs. Widgets read ``controller.scene`` and the results, and change the
+document only through ``push(edit)`` (one undo command) or a drag preview that ends in one
+command. Signals are past tense and fire once the document is consistent:
+
+- ``changed(Change)`` after every edit, undo, redo and drag-preview move: which elements changed
+  (added, removed, modified) and whether it is a preview. The changed elements are solved before
+  the signal (the rest keep their cached results), so a drag re-solves only the element it moves,
+  and only the groups that depend on it; a linkage's diagnostics are computed on a final change,
+  not per preview move;
+- ``documentReplaced()`` after New, Open or a restore (then ``changed`` follows with every id).
 """
 from __future__ import annotations
 
-import math
-import time
-from dataclasses import dataclass
 from pathlib import Path
 
 from PySide6.QtCore import QObject, Signal
 from PySide6.QtGui import QUndoCommand, QUndoStack
 
 from mechsketch.core.errors import MechsketchError
-from mechsketch.core.model.edits import Document, Edit
+from mechsketch.core.model.edits import Edit
 from mechsketch.core.model.linkage import Linkage
 from mechsketch.core.model.scene import Scene
-from mechsketch.core.solver.diagnostics import Diagnostics, diagnose
-from mechsketch.core.solver.plan import Plan, Solution
+from mechsketch.core.workspace import Change, ElementResult, GenevaResult, LinkageResult, RollingResult, Workspace
 
 from .canvas.pose import map_frame
-from .element_results import ElementResult, ResultCache
 
 DEFAULT_SAMPLES = 360
-
-
-@dataclass
-class SolveResult:
-    """The solve of one linkage element: plan, solution and diagnostics, or the error message."""
-
-    element_id: str
-    plan: Plan | None = None
-    solution: Solution | None = None
-    diagnostics: Diagnostics | None = None
-    error: str | None = None
-    seconds: float = 0.0
-
-    @property
-    def ok(self) -> bool:
-        return self.error is None
 
 
 class EditCommand(QUndoCommand):
@@ -53,18 +40,18 @@ class EditCommand(QUndoCommand):
         self._inverse: Edit | None = None
 
     def redo(self) -> None:
-        self._inverse = self._controller._apply(self._edit)
+        self._inverse = self._controller.workspace.apply(self._edit)
 
     def undo(self) -> None:
         if self._inverse is not None:
-            self._edit = self._controller._apply(self._inverse)
+            self._edit = self._controller.workspace.apply(self._inverse)
 
 
 class SceneController(QObject):
-    """Document + undo stack + solutions + selection + animation frame, with signals."""
+    """Workspace + undo stack + selection + animation frame, with signals."""
 
-    sceneChanged = Signal()            # the document changed (edit, undo, redo, open, new, preview)
-    solutionsChanged = Signal()        # solutions recomputed (after sceneChanged)
+    changed = Signal(object)           # Change: element ids, added/removed/modified, preview or final
+    documentReplaced = Signal()        # New, Open, restore: a different document (history cleared)
     solveFailed = Signal(str, str)     # element id, message (the GUI shows it; never raises)
     selectionChanged = Signal()
     frameChanged = Signal(int)         # current sample index of the animation / scrub bar
@@ -73,18 +60,15 @@ class SceneController(QObject):
 
     def __init__(self, scene: Scene | None = None, parent: QObject | None = None) -> None:
         super().__init__(parent)
-        self.document = Document(scene)
+        self.workspace = Workspace(scene)
         self.undo_stack = QUndoStack(self)
         self.undo_stack.cleanChanged.connect(self._on_clean_changed)
         self.path: Path | None = None
-        self.samples_override: int | None = None
-        self.selection: list[tuple[str, str, str]] = []   # (element id, "joint"|"link", id)
+        self.selection: list[tuple[str, str, str]] = []   # (element id, SelectionKind, id)
         self.frame = 0
-        self._results: dict[str, SolveResult] = {}
-        self._element_results: dict[str, ElementResult] = {}   # Geneva drives, rolling levers
-        self._element_cache = ResultCache()
-        self._drag_base: Scene | None = None
-        self._resolve()
+        self._reported: dict[str, object] = {}            # element id -> result whose error was shown
+        self.workspace.subscribe(self._on_change)
+        self._solve(self.scene.ids, final=True)
 
     def _on_clean_changed(self, _clean: bool) -> None:
         # a bound slot (not a lambda): Qt drops the connection when the controller is destroyed,
@@ -94,31 +78,53 @@ class SceneController(QObject):
     # -- reading ----------------------------------------------------------------------------
     @property
     def scene(self) -> Scene:
-        return self.document.scene
+        return self.workspace.scene
+
+    @property
+    def samples_override(self) -> int | None:
+        """Samples per cycle for every linkage and Geneva drive (None: each element's own)."""
+        return self.workspace.samples
+
+    @samples_override.setter
+    def samples_override(self, value: int | None) -> None:
+        self.workspace.samples = value
 
     def linkages(self) -> list[Linkage]:
         return [e for e in self.scene.elements if isinstance(e, Linkage)]
 
-    def result(self, element_id: str) -> SolveResult | None:
-        return self._results.get(element_id)
+    def any_result(self, element_id: str) -> ElementResult | None:
+        """The workspace's result of any element (None for an unknown id)."""
+        if element_id not in self.scene.ids:
+            return None
+        return self.workspace.result(element_id)
 
-    def results(self) -> dict[str, SolveResult]:
-        return dict(self._results)
+    def result(self, element_id: str) -> LinkageResult | None:
+        """The result of a linkage (None for another element type or an unknown id)."""
+        res = self.any_result(element_id)
+        return res if isinstance(res, LinkageResult) else None
 
-    def element_result(self, element_id: str) -> ElementResult | None:
+    def results(self) -> dict[str, LinkageResult]:
+        """Results of every linkage, in scene order."""
+        return {lk.id: self.result(lk.id) for lk in self.linkages()}
+
+    def element_result(self, element_id: str) -> GenevaResult | RollingResult | None:
         """The result of a Geneva drive or rolling lever (None for a linkage or an unknown id)."""
-        return self._element_results.get(element_id)
+        res = self.any_result(element_id)
+        return res if isinstance(res, (GenevaResult, RollingResult)) else None
 
-    def element_results(self) -> dict[str, ElementResult]:
+    def element_results(self) -> dict[str, GenevaResult | RollingResult]:
         """Results of every Geneva drive and rolling lever, in scene order."""
-        return dict(self._element_results)
+        out = {}
+        for el in self.scene.elements:
+            res = self.element_result(el.id)
+            if res is not None:
+                out[el.id] = res
+        return out
 
     def check_element(self, element) -> str | None:
-        """Solve ``element`` (a Geneva drive or rolling lever, not yet in the scene) as the
-        controller would; the core's message if it fails, else None (the result is kept for
-        when the edit lands)."""
-        res = self._element_cache.solve(element, self.samples_override)
-        return None if res is None else res.error
+        """Solve ``element`` (not yet in the scene) as the workspace would; the core's message if
+        it fails, else None (the result is kept for when the edit lands)."""
+        return self.workspace.check_element(element)
 
     @property
     def is_dirty(self) -> bool:
@@ -127,57 +133,44 @@ class SceneController(QObject):
     # -- editing ----------------------------------------------------------------------------
     def push(self, edit: Edit, text: str | None = None) -> bool:
         """Apply ``edit`` as one undo command; False (and a message) if the edit is refused."""
+        label = text or getattr(edit, "label", "edit")
         try:
-            edit.apply_to(self.scene)  # dry run: refuse bad edits before they enter history
-        except (MechsketchError, KeyError, ValueError) as exc:
-            self.message.emit(f"cannot {text or getattr(edit, 'label', 'edit')}: {exc}")
+            self.workspace.check(edit)  # dry run: refuse bad edits before they enter history
+        except MechsketchError as exc:
+            self.message.emit(f"cannot {label}: {exc}")
             return False
-        self.undo_stack.push(EditCommand(self, edit, text or getattr(edit, "label", "edit")))
+        self.undo_stack.push(EditCommand(self, edit, label))
         return True
-
-    def _apply(self, edit: Edit) -> Edit:
-        inverse = self.document.apply(edit)
-        self._changed()
-        return inverse
 
     def begin_preview(self) -> None:
         """Start a live drag: later ``preview`` calls show edits without history."""
-        if self._drag_base is None:
-            self._drag_base = self.scene
+        self.workspace.begin_preview()
 
     def preview(self, edit: Edit) -> bool:
         """Show ``edit`` applied to the scene at ``begin_preview`` (no undo entry)."""
-        base = self._drag_base if self._drag_base is not None else self.scene
         try:
-            new, _ = edit.apply_to(base)
-        except (MechsketchError, KeyError, ValueError) as exc:
+            self.workspace.preview(edit)
+        except MechsketchError as exc:
             self.message.emit(str(exc))
             return False
-        self.document.scene = new
-        self._changed()
         return True
 
     def end_preview(self, edit: Edit | None, text: str | None = None) -> None:
-        """Finish a drag: restore the base scene and push ``edit`` as one command (None: cancel)."""
-        base, self._drag_base = self._drag_base, None
-        if base is not None:
-            self.document.scene = base
-        if edit is None:
-            self._changed()
-            return
-        if not self.push(edit, text):
-            self._changed()
+        """Finish a drag: restore the base scene and push ``edit`` as one command (None: cancel).
+        Listeners see one change on release."""
+        self.workspace.end_preview(notify=edit is None)
+        if edit is not None and not self.push(edit, text):
+            self.workspace.flush()   # refused: report what the preview touched, now back at base
 
     def reset(self, scene: Scene, path: Path | None = None) -> None:
         """Replace the document (New, Open): clears history, selection and frame."""
-        self._drag_base = None
         self.undo_stack.clear()
-        self.document.reset(scene)
         self.path = path
         self.selection = []
         self.frame = 0
+        self._reported.clear()
+        self.workspace.reset(scene)
         self.undo_stack.setClean()
-        self._changed()
         self.selectionChanged.emit()
         self.pathChanged.emit()
 
@@ -185,6 +178,32 @@ class SceneController(QObject):
         self.path = path
         self.undo_stack.setClean()
         self.pathChanged.emit()
+
+    def _on_change(self, change: Change) -> None:
+        """From the workspace: report failures of the changed elements, keep the frame in range,
+        then tell the widgets."""
+        self._solve(change.ids, final=not change.preview)
+        n = self.sample_count()
+        if n and self.frame >= n:
+            self.frame = 0
+        if change.replaced:
+            self.documentReplaced.emit()
+        self.changed.emit(change)
+
+    def _solve(self, ids, final: bool) -> None:
+        """Solve the elements ``ids`` now (the others keep their cached results) and report
+        failures once per result; on a ``final`` change, a linkage's diagnostics too (the
+        animation and the dead-point marks read them; a drag preview does not need them)."""
+        for eid in ids:
+            if eid not in self.scene.ids:
+                self._reported.pop(eid, None)
+                continue
+            res = self.workspace.result(eid)
+            if isinstance(res, LinkageResult) and final:
+                _ = res.diagnostics
+            if res is not None and res.error is not None and self._reported.get(eid) is not res:
+                self._reported[eid] = res
+                self.solveFailed.emit(eid, res.error)
 
     # -- selection and frame ----------------------------------------------------------------
     def set_selection(self, items: list[tuple[str, str, str]]) -> None:
@@ -199,83 +218,33 @@ class SceneController(QObject):
             self.frame = index
             self.frameChanged.emit(index)
 
+    def _clock(self) -> ElementResult | None:
+        """The result that sets the animation cycle: the first solved linkage, else the first
+        animatable Geneva drive or rolling lever (the others map by cycle phase)."""
+        for lk in self.linkages():
+            res = self.result(lk.id)
+            if res is not None and res.n_frames:
+                return res
+        return next((e for e in self.element_results().values() if e.n_frames), None)
+
     def sample_count(self) -> int:
-        """Frames of the animation cycle: the first solved linkage's samples, else the first
-        animatable Geneva drive's or rolling lever's frames (others map by cycle phase)."""
-        for r in self._results.values():
-            if r.solution is not None:
-                return len(r.solution)
-        for e in self._element_results.values():
-            if e.n_frames:
-                return e.n_frames
-        return 0
+        """Frames of the animation cycle (see :meth:`_clock`); 0 when nothing can be animated."""
+        res = self._clock()
+        return res.n_frames if res is not None else 0
 
     def cycle_period(self) -> float:
         """Seconds per animation cycle: the first solved linkage's driver revolution, else the
         first animated Geneva drive's crank revolution (a rolling lever: a nominal 2 s)."""
-        for lk in self.linkages():
-            res = self.result(lk.id)
-            if res is not None and res.solution is not None and lk.driver.speed_rpm:
-                return 60.0 / abs(lk.driver.speed_rpm)
-        for e in self._element_results.values():
-            if e.n_frames:
-                return float(e.period)
-        return 1.0
+        res = self._clock()
+        return float(res.period) if res is not None else 1.0
 
     def frame_text(self) -> tuple[str, bool]:
         """The current frame in words for the read-outs, and whether it can be assembled."""
-        n, frame = self.sample_count(), self.frame
-        for lk in self.linkages():
-            res = self.result(lk.id)
-            if res is not None and res.solution is not None:
-                sol = res.solution
-                k = map_frame(frame, n, len(sol))
-                deg = math.degrees(math.remainder(float(sol.input[k]), 2 * math.pi))
-                return f"input {deg:.2f}°  t {float(sol.t[k]):.3f} s  frame {frame + 1}/{n}", bool(sol.valid[k])
-        for e in self._element_results.values():
-            if e.n_frames:
-                return f"{e.element_id}: {e.frame_text(map_frame(frame, n, e.n_frames))}  frame {frame + 1}/{n}", True
-        return "nothing to animate", True
-
-    # -- solving ----------------------------------------------------------------------------
-    def _changed(self) -> None:
-        self._resolve()
-        self.sceneChanged.emit()
-        self.solutionsChanged.emit()
-
-    def _resolve(self) -> None:
-        """Re-solve every linkage over its whole cycle (errors become messages, never raise)."""
-        results: dict[str, SolveResult] = {}
-        for el in self.linkages():
-            t0 = time.perf_counter()
-            res = SolveResult(el.id)
-            try:
-                res.plan = el.compile()
-                res.solution = res.plan.sweep(samples=self.samples_override or el.samples, order=2)
-                res.diagnostics = diagnose(res.solution)
-            except (MechsketchError, KeyError, ValueError, ZeroDivisionError) as exc:
-                # a linkage half-drawn by the tools is normal: keep the message, never raise
-                res.error = exc.args[0] if isinstance(exc, KeyError) and exc.args else str(exc)
-                self.solveFailed.emit(el.id, res.error)
-            res.seconds = time.perf_counter() - t0
-            results[el.id] = res
-        self._results = results
-        self._resolve_elements()
-        n = self.sample_count()
-        if n and self.frame >= n:
-            self.frame = 0
-
-    def _resolve_elements(self) -> None:
-        """Solve each Geneva drive and rolling lever once per change of that element (cached by
-        value: a linkage drag or an undo does not recompute them); failures become messages."""
-        old, new = self._element_results, {}
-        for el in self.scene.elements:
-            if isinstance(el, Linkage):
-                continue
-            res = self._element_cache.solve(el, self.samples_override)
-            if res is None:
-                continue
-            new[el.id] = res
-            if res.error is not None and old.get(el.id) is not res:
-                self.solveFailed.emit(el.id, res.error)
-        self._element_results = new
+        res = self._clock()
+        if res is None:
+            return "nothing to animate", True
+        n = res.n_frames
+        k = map_frame(self.frame, n, res.n_frames)
+        if isinstance(res, LinkageResult):
+            return f"{res.frame_text(k)}  frame {self.frame + 1}/{n}", bool(res.solution.valid[k])
+        return f"{res.element_id}: {res.frame_text(k)}  frame {self.frame + 1}/{n}", True

@@ -21,7 +21,7 @@ from mechsketch.core import ExportError
 from .autosave import Autosave
 from .controller import SceneController
 from .dialogs import DialogService
-from .element_results import ELEMENT
+from .selection import ELEMENT
 from .export_worker import DxfExporter, ExportStatus, exportable
 from .file_ops import FileOps
 from .panels.diagnostics import DiagnosticsPanel
@@ -112,8 +112,7 @@ class MainWindow(QMainWindow):
         controller.message.connect(self.show_message)
         controller.solveFailed.connect(self._on_solve_failed)
         controller.pathChanged.connect(self.update_title)
-        controller.sceneChanged.connect(self.update_title)
-        controller.solutionsChanged.connect(self._update_status)
+        controller.changed.connect(self._on_changed)
         controller.frameChanged.connect(self._update_frame)
         file_ops.recentChanged.connect(self._fill_recent)
         self.exporter.finished.connect(self._export_finished)
@@ -243,6 +242,10 @@ class MainWindow(QMainWindow):
     def show_cursor(self, x: float, y: float) -> None:
         """The pointer's world position in the status bar."""
         self.cursor_label.setText(f"{x:.2f}, {y:.2f} mm")
+
+    def _on_changed(self, _change) -> None:
+        self.update_title()
+        self._update_status()
 
     def _update_status(self) -> None:
         parts = []

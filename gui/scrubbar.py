@@ -43,8 +43,11 @@ class ScrubTrack(QWidget):
         self.setMinimumWidth(160)
         self.setMouseTracking(True)
         self.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Fixed)
-        controller.solutionsChanged.connect(self.update)
+        controller.changed.connect(self._on_changed)
         controller.frameChanged.connect(self.update)
+
+    def _on_changed(self, _change) -> None:
+        self.update()
 
     def sizeHint(self) -> QSize:
         return QSize(400, 30)
@@ -184,7 +187,7 @@ class ScrubBar(QWidget):
         lay.addWidget(self.readout, 2)
         player.settingsChanged.connect(self._settings)
         controller.frameChanged.connect(self._readout)
-        controller.solutionsChanged.connect(self._readout)
+        controller.changed.connect(self._readout)
         self._readout()
 
     def _settings(self) -> None:

@@ -1,8 +1,12 @@
-"""Solve results of the non-linkage elements (Geneva drives, rolling levers) for the desktop app.
+"""The results the workspace hands out per element: linkages, Geneva drives, rolling levers.
 
-Qt-free. The controller calls :meth:`ResultCache.solve` once per scene change for every Geneva
-drive and rolling lever; each result holds the core's analyses and the per-frame arrays the canvas
-animates, so nothing is computed per animation frame:
+Qt-free. :class:`~mechsketch.core.workspace.Workspace` computes each result once per element value
+(and request) and caches it; the CLI and the GUI read the same objects. Every result carries its
+time (``seconds``) and its error measures, and holds what the canvas animates so that nothing is
+computed per animation frame:
+
+- :class:`LinkageResult` - the compiled plan, the sweep over one driver revolution at order 2 and
+  (on first access) the diagnostics, or the core's message when the linkage cannot be solved;
 
 - :class:`GenevaResult` - kinematics and contact/wear over one crank revolution (N = the element's
   ``samples``), the exact drawable geometry (or why it cannot be built), and per frame the crank's
@@ -13,42 +17,114 @@ animates, so nothing is computed per animation frame:
   else the stroke there and back with a cosine law (``pose(θ)``).
 
 Failures are data: a result with ``error`` set (the core's message), never an exception.
-Results are cached by element value, so undo/redo and a pre-check before an edit cost nothing.
 """
 from __future__ import annotations
 
-import copy
 import math
 import time
-from collections import OrderedDict
 from dataclasses import dataclass, field
-from typing import Any, Union
+from typing import Union
 
 import numpy as np
 
-from mechsketch.core.analyses.geneva_contact import GenevaContact
-from mechsketch.core.analyses.geneva_geometry import GenevaGeometry
-from mechsketch.core.analyses.geneva_kinematics import GenevaKinematics
-from mechsketch.core.analyses.rolling_geometry import rot
-from mechsketch.core.analyses.rolling_synthesis import RollingSynthesis
-from mechsketch.core.errors import MechsketchError
-from mechsketch.core.io.scene_file import scene_from_dict
-from mechsketch.core.model.geneva import Geneva
-from mechsketch.core.model.rolling_lever import RollingLever
-from mechsketch.core.model.scene import FORMAT, SCHEMA_VERSION
+from ..analyses.geneva_contact import GenevaContact, contact
+from ..analyses.geneva_geometry import GenevaGeometry, geometry
+from ..analyses.geneva_kinematics import GenevaKinematics, kinematics
+from ..analyses.geneva_report import summary as geneva_summary
+from ..analyses.linkage_report import linkage_summary
+from ..analyses.rolling_geometry import rot
+from ..analyses.rolling_synthesis import RollingSynthesis, synthesize
+from ..errors import MechsketchError
+from ..model.geneva import Geneva
+from ..model.linkage import Linkage
+from ..model.rolling_lever import RollingLever
+from ..solver.diagnostics import Diagnostics, diagnose
+from ..solver.plan import Plan, Solution, compile_plan
 
 #: frames of a rolling lever's animation cycle: 2·points, at least this many
 ROLLING_MIN_FRAMES = 360
 #: points on the drawn frame and slider profiles (polylines of the exact curves)
 PROFILE_POINTS = 400
-#: results kept by :class:`ResultCache` (undo/redo, pre-checks of edits)
-CACHE_SIZE = 16
-#: the selection kind of a whole Geneva drive or rolling lever: ``(element id, ELEMENT, element id)``
-ELEMENT = "element"
 
 
 def _message(exc: BaseException) -> str:
     return str(exc).strip() or type(exc).__name__
+
+
+# -- linkage -----------------------------------------------------------------------------------
+@dataclass
+class LinkageResult:
+    """One linkage solved over one driver revolution of N samples at order 2.
+
+    ``plan`` the compiled plan, ``solution`` the sweep (positions, velocities, accelerations);
+    :attr:`diagnostics` (ranges, dead points, transmission angles, residual) is computed on first
+    access. ``error`` is the core's message when the linkage cannot be compiled or solved (a
+    linkage half drawn by the tools is normal). ``seconds``: compile and sweep time;
+    ``incremental``: the sweep re-ran only the groups a drag touched.
+    """
+
+    element: Linkage
+    plan: Plan | None = None
+    solution: Solution | None = None
+    error: str | None = None
+    seconds: float = 0.0
+    incremental: bool = False
+    _diagnostics: Diagnostics | None = field(default=None, repr=False)
+
+    kind = "linkage"
+
+    @property
+    def element_id(self) -> str:
+        return self.element.id
+
+    @property
+    def ok(self) -> bool:
+        return self.error is None
+
+    @property
+    def n_frames(self) -> int:
+        return len(self.solution) if self.solution is not None else 0
+
+    @property
+    def period(self) -> float:
+        """Seconds per driver revolution (one animation cycle)."""
+        rpm = self.element.driver.speed_rpm
+        return 60.0 / abs(rpm) if rpm else 1.0
+
+    @property
+    def diagnostics(self) -> Diagnostics | None:
+        """Reachable ranges, dead points, transmission angles and residual (computed once)."""
+        if self._diagnostics is None and self.solution is not None:
+            self._diagnostics = diagnose(self.solution)
+        return self._diagnostics
+
+    def frame_text(self, k: int) -> str:
+        """Read-out of frame ``k``: input angle and time."""
+        sol = self.solution
+        deg = math.degrees(math.remainder(float(sol.input[k]), 2 * math.pi))
+        return f"input {deg:.2f}°  t {float(sol.t[k]):.3f} s"
+
+    def summary(self) -> str:
+        """What ``mechsketch analyze SCENE --element ID --summary`` prints."""
+        if self.solution is None:
+            return f"linkage {self.element.id!r}: {self.error}"
+        return linkage_summary(self.element, self.plan, self.diagnostics)
+
+
+def solve_linkage(element: Linkage, samples: int | None = None, plan: Plan | None = None) -> LinkageResult:
+    """Compile (unless ``plan`` is given) and sweep ``element`` at ``samples`` (default the
+    element's) to order 2. Never raises for a linkage that cannot be solved."""
+    from_plan = plan is not None
+    t0 = time.perf_counter()
+    res = LinkageResult(element)
+    try:
+        res.plan = plan if from_plan else compile_plan(element)
+        res.solution = res.plan.sweep(samples=samples or element.samples, order=2)
+    except MechsketchError as exc:
+        res.error = _message(exc)
+        res.solution = None
+    res.seconds = time.perf_counter() - t0
+    return res
 
 
 # -- Geneva ------------------------------------------------------------------------------------
@@ -108,9 +184,7 @@ class GenevaResult:
             if self.kinematics is None or self.contact is None:
                 self._summary = f"geneva {self.element.id!r}: {self.error}"
             else:
-                from mechsketch.core.cli.geneva_cmds import summary
-
-                self._summary = summary(self.element, self.kinematics, self.contact)
+                self._summary = geneva_summary(self.element, self.kinematics, self.contact)
         return self._summary
 
 
@@ -121,9 +195,9 @@ def solve_geneva(element: Geneva, samples: int | None = None) -> GenevaResult:
     res = GenevaResult(element)
     n = int(samples or element.samples)
     try:
-        res.kinematics = element.kinematics(n)
-        res.contact = element.contact(n)
-    except (MechsketchError, ValueError) as exc:
+        res.kinematics = kinematics(element, n)
+        res.contact = contact(element, n, element.model)
+    except MechsketchError as exc:
         res.error = _message(exc)
         res.seconds = time.perf_counter() - t0
         return res
@@ -131,8 +205,8 @@ def solve_geneva(element: Geneva, samples: int | None = None) -> GenevaResult:
     res.crank_rotation = direction + res.kinematics.phi
     res.wheel_rotation = direction + res.kinematics.wheel_angle
     try:
-        res.geometry = element.geometry()
-    except (MechsketchError, ValueError) as exc:
+        res.geometry = geometry(element)
+    except MechsketchError as exc:
         res.error = f"cannot draw the drive: {_message(exc)}"
     res.seconds = time.perf_counter() - t0
     return res
@@ -266,11 +340,11 @@ def solve_rolling(element: RollingLever) -> RollingResult:
     t0 = time.perf_counter()
     out = RollingResult(element)
     try:
-        res = element.synthesize(measures=True)
+        res = synthesize(element, measures=True)
         out.frames = _rolling_frames(res, rolling_frame_count(element))
         out.frame_profile = _curve(res.frame_profile(), PROFILE_POINTS)
         out.slider_profile = _curve(res.slider_profile(), PROFILE_POINTS)
-    except (MechsketchError, ValueError) as exc:
+    except MechsketchError as exc:
         out.error = _message(exc)
         out.frames = None
         out.seconds = time.perf_counter() - t0
@@ -284,75 +358,16 @@ def solve_rolling(element: RollingLever) -> RollingResult:
     return out
 
 
-ElementResult = Union[GenevaResult, RollingResult]
+ElementResult = Union[LinkageResult, GenevaResult, RollingResult]
 
 
 def solve_element(element, samples: int | None = None) -> ElementResult | None:
-    """The result of a Geneva drive or rolling lever; None for other element types."""
+    """The result of any element (``samples`` overrides a linkage's or a Geneva drive's own
+    sample count); None for an element type this version does not solve."""
+    if isinstance(element, Linkage):
+        return solve_linkage(element, samples)
     if isinstance(element, Geneva):
         return solve_geneva(element, samples)
     if isinstance(element, RollingLever):
         return solve_rolling(element)
     return None
-
-
-def rebuilt(element, changes: dict[str, Any]) -> tuple[Any, str | None]:
-    """``element`` with ``changes`` applied to its dict (dotted keys: ``{"clearance.slot": 0.1}``),
-    built as a scene file is read: the element's JSON schema, then its module's ``parse``.
-
-    Returns (new element, None), or (None, the core's messages) when the values are refused.
-    """
-    data = copy.deepcopy(element.to_dict())
-    for key, value in changes.items():
-        node = data
-        *parents, leaf = key.split(".")
-        for part in parents:
-            node = node.setdefault(part, {})
-        node[leaf] = value
-    doc = {"format": FORMAT, "schema_version": SCHEMA_VERSION, "units": "mm", "elements": [data]}
-    scene, problems = scene_from_dict(doc, source=f"element {element.id}")
-    if problems or scene is None:
-        def text(p) -> str:
-            tail = p.path.removeprefix("$.elements[0]").lstrip(".")
-            return p.message if not tail or tail in changes else f"{tail}: {p.message}"
-        return None, "; ".join(text(p) for p in problems) or "refused"
-    return scene.elements[0], None
-
-
-def element_target(controller) -> str | None:
-    """The Geneva drive or rolling lever the panels show: the first one selected, else - when
-    nothing is selected and the scene has no linkage - the scene's first one (None if neither)."""
-    results = controller.element_results()
-    for eid, kind, _ident in controller.selection:
-        if kind == ELEMENT and eid in results:
-            return eid
-    if not controller.selection and not controller.linkages():
-        return next(iter(results), None)
-    return None
-
-
-class ResultCache:
-    """Results of the last few elements solved, by element value (elements are immutable)."""
-
-    def __init__(self, size: int = CACHE_SIZE) -> None:
-        self.size = size
-        self._store: OrderedDict[tuple, ElementResult | None] = OrderedDict()
-
-    def solve(self, element, samples: int | None = None) -> ElementResult | None:
-        """:func:`solve_element` once per (element, samples); later calls return the same object."""
-        key = (element, samples if isinstance(element, Geneva) else None)
-        try:
-            hit = key in self._store
-        except TypeError:  # an unhashable element (not one of ours): solve it uncached
-            return solve_element(element, samples)
-        if hit:
-            self._store.move_to_end(key)
-            return self._store[key]
-        res = solve_element(element, samples)
-        self._store[key] = res
-        while len(self._store) > self.size:
-            self._store.popitem(last=False)
-        return res
-
-    def clear(self) -> None:
-        self._store.clear()

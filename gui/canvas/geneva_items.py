@@ -7,7 +7,7 @@ polyline.
 the wheel (stadium slots, horn lands, locking arcs, hub bore), and the driver - locking disc with
 its relief, crank arm, roller - plus the centre marks and the line of centres. A frame only sets
 two transforms read from the precomputed arrays of a
-:class:`~mechsketch.gui.element_results.GenevaResult`: the driver turns by the crank rotation
+:class:`~mechsketch.core.workspace.results.GenevaResult`: the driver turns by the crank rotation
 about the crank centre, the wheel by the kinematics' wheel angle about its centre (it holds still
 in the dwell). World millimetres, y up (the view flips y).
 """
@@ -21,7 +21,7 @@ from PySide6.QtWidgets import QGraphicsItem, QGraphicsPathItem, QStyleOptionGrap
 
 from mechsketch.core.analyses.geneva_contour import Contour, Part
 
-from ..element_results import GenevaResult
+from mechsketch.core.workspace import GenevaResult
 from .items import INK, MUTED, NOTE, SELECT, _pen, _px, _text
 
 WHEEL_FILL = QColor("#cfdcee")

@@ -175,7 +175,7 @@ class PoseCache:
         self._arrays: dict[str, SolutionArrays] = {}
 
     def arrays(self, linkage: Linkage, result) -> SolutionArrays | None:
-        """Arrays of ``result.solution`` (``result`` a controller SolveResult), cached by identity."""
+        """Arrays of ``result.solution`` (``result`` a workspace LinkageResult), cached by identity."""
         if result is None or result.solution is None:
             self._arrays.pop(linkage.id, None)
             return None

@@ -12,8 +12,8 @@
 - painted per frame from the arrays: the rocker G–F, the crank A–B and the coupler B–C (with a
   drive), joints, ground pivots and the two contact points P and P0.
 
-Nothing is solved here: every frame reads the :class:`~mechsketch.gui.element_results.RollingFrames`
-of a :class:`~mechsketch.gui.element_results.RollingResult`.
+Nothing is solved here: every frame reads the :class:`~mechsketch.core.workspace.results.RollingFrames`
+of a :class:`~mechsketch.core.workspace.results.RollingResult`.
 """
 from __future__ import annotations
 
@@ -24,7 +24,7 @@ from PySide6.QtCore import QPointF, QRectF, Qt
 from PySide6.QtGui import QBrush, QColor, QPainter, QPainterPath, QPainterPathStroker, QPen, QTransform
 from PySide6.QtWidgets import QGraphicsItem, QGraphicsPathItem, QStyleOptionGraphicsItem, QWidget
 
-from ..element_results import RollingResult
+from mechsketch.core.workspace import RollingResult
 from .geneva_items import _Container, _path_item, arc_to
 from .items import DRIVER_EDGE, INK, LINK_EDGE, LINK_FILL, MUTED, NOTE, SELECT, _pen, _px, _text, draw_ground
 

@@ -28,7 +28,6 @@ class ToolContext:
         self.controller = controller
         self.cache = cache or PoseCache()
         self.hold_frame = False   # while a geometry drag runs, the canvas shows the drawn pose
-        self.pushing = False      # a tool is pushing an edit (the view does not re-fit then)
 
     # -- reading ----------------------------------------------------------------------------
     def display_frame(self) -> int:
@@ -92,11 +91,7 @@ class ToolContext:
             edit = AddElement(new, label=text)
         else:
             edit = ReplaceElement(new, text)
-        self.pushing = True
-        try:
-            ok = self.controller.push(edit, text)
-        finally:
-            self.pushing = False
+        ok = self.controller.push(edit, text)
         if ok and rebased:
             self.controller.set_frame(0)
         return ok

@@ -28,8 +28,9 @@ from PySide6.QtWidgets import QGraphicsScene, QGraphicsView, QWidget
 
 from mechsketch.core.model.edits import RemoveElement
 from mechsketch.core.model.linkage import JointKind, Linkage
+from mechsketch.core.workspace import GenevaResult
 
-from ..element_results import ELEMENT, GenevaResult
+from ..selection import ELEMENT
 from .pose import map_frame
 from .events import XY, CanvasEvent, Hit
 from .geneva_items import GenevaItem
@@ -118,7 +119,7 @@ class CanvasView(QGraphicsView):
         self._trace_override: dict[tuple[str, str], bool] = {}
         self._hover: Hit | None = None
         self._key: tuple | None = None
-        self._ids: set[str] = set()
+        self._fit_pending = False   # a replaced document is fitted at its first sync
         self._snap = True
         self._pan_from: QPointF | None = None
         self._space = False
@@ -141,8 +142,8 @@ class CanvasView(QGraphicsView):
         self.setCursor(Qt.CursorShape.ArrowCursor)
         self._make_actions()
 
-        controller.sceneChanged.connect(self._sync)
-        controller.solutionsChanged.connect(self._sync)
+        controller.changed.connect(self._sync)
+        controller.documentReplaced.connect(self._on_replaced)
         controller.frameChanged.connect(self._on_frame)
         controller.selectionChanged.connect(self._highlight)
         self._sync()
@@ -260,7 +261,11 @@ class CanvasView(QGraphicsView):
         names = ", ".join(j for _, j in joints)
         self.controller.message.emit(f"tracing {names}" if on else f"not tracing {names}")
 
-    def _sync(self) -> None:
+    def _on_replaced(self) -> None:
+        """A different document (New, Open, restore): fit it once its items exist."""
+        self._fit_pending = True
+
+    def _sync(self, *_args) -> None:
         """Rebuild items after the document or its solutions changed (cheap when nothing did)."""
         ctl = self.controller
         # identity of the scene and of each solution (references held, so ids cannot be reused)
@@ -290,12 +295,10 @@ class CanvasView(QGraphicsView):
             items.trace.set_data(pose, self.traced_joints(pose.linkage))
             items.dead.set_data(pose, ctl.result(pose.element))
         self._highlight()
-        live = live | set(self.element_items)
-        # a document replaced (open, new: history cleared), not a linkage begun with a tool
-        replaced = live and not (live & self._ids) and ctl.undo_stack.count() == 0 and not self.ctx.pushing
-        self._ids = live
-        if replaced and self.isVisible():
-            self.zoom_to_fit(quiet=True)
+        if self._fit_pending:
+            self._fit_pending = False
+            if self.isVisible():
+                self.zoom_to_fit(quiet=True)
 
     def _sync_elements(self) -> None:
         """One item per Geneva drive / rolling lever, rebuilt only when its result changed."""

@@ -71,7 +71,7 @@ class DiagnosticsPanel(LazyRefresh, QWidget):
         layout.setContentsMargins(2, 2, 2, 2)
         layout.addWidget(self.text)
         self._stale = True
-        controller.solutionsChanged.connect(self._invalidate)
+        controller.changed.connect(self._invalidate)
         self.refresh()
 
     def refresh(self) -> None:

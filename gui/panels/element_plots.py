@@ -18,10 +18,11 @@ import numpy as np
 
 from mechsketch.core.analyses.geneva_report import analysis_table
 from mechsketch.core.analyses.table import Table
+from mechsketch.core.workspace import GenevaResult, RollingResult
 
-from ..controller import SceneController
 from ..canvas.pose import map_frame
-from ..element_results import GenevaResult, RollingResult, element_target
+from ..controller import SceneController
+from ..selection import element_target
 from .plots import PlotData, Series
 
 GENEVA_ROWS = (("angle", "wheel angle (°)"), ("omega", "ω (rad/s)"), ("alpha", "α (rad/s²)"),

@@ -1,7 +1,7 @@
 """Editing a Geneva drive or a rolling lever from the properties panel: the shared plumbing.
 
 Every edit builds the new element by round-tripping the old one's dict through the scene reader
-(the element's JSON schema, then its module's ``parse``: :func:`~mechsketch.gui.element_results.rebuilt`),
+(the element's JSON schema, then its module's ``parse``: :func:`~mechsketch.core.workspace.rebuild.rebuilt`),
 then solves it once through the controller (a stroke beyond the working range, a drive that cannot
 be drawn) and only then pushes one ``ReplaceElement`` command. A refused value raises
 ``ValueError`` with the core's message, which the panel's field shows in the status bar while the
@@ -15,7 +15,7 @@ from PySide6.QtWidgets import QComboBox
 
 from mechsketch.core import ReplaceElement
 
-from ..element_results import rebuilt
+from mechsketch.core.workspace import rebuilt
 
 
 def push_changes(controller, element_id: str, changes: dict[str, Any], label: str) -> bool:

@@ -15,7 +15,7 @@ from PySide6.QtWidgets import QFormLayout, QGroupBox, QLabel
 
 from mechsketch.core.model.geneva import Geneva
 
-from ..element_results import GenevaResult
+from mechsketch.core.workspace import GenevaResult
 from .element_props import combo_field, push_changes, whole_number
 
 #: (field name = JSON key, label, unit, tooltip) of the plain number fields, by group

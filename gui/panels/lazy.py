@@ -8,7 +8,8 @@ class LazyRefresh:
 
     _stale = True
 
-    def _invalidate(self) -> None:
+    def _invalidate(self, *_args) -> None:
+        """Slot of ``changed(Change)`` and ``selectionChanged()``: redraw now if visible."""
         self._stale = True
         if self.isVisible():
             self.refresh()

@@ -182,7 +182,7 @@ class PlotsPanel(LazyRefresh, QWidget):
         self.data = PlotData("")
         self._keys: list[tuple[str, str, str]] | None = None
         self._stale = True
-        controller.solutionsChanged.connect(self._invalidate)
+        controller.changed.connect(self._invalidate)
         controller.selectionChanged.connect(self._invalidate)
         controller.frameChanged.connect(self._move_cursor)
         self.graphics.scene().sigMouseClicked.connect(self._clicked)

@@ -22,7 +22,7 @@ from mechsketch.core import MechsketchError, MoveJoint, ReplaceElement
 from mechsketch.core.model.linkage import Driver, JointKind, Linkage
 
 from ..controller import SceneController
-from ..element_results import ELEMENT, element_target
+from ..selection import ELEMENT, element_target
 from mechsketch.core.solver.flip import FLIPPABLE, flip_edit
 from .geneva_panel import geneva_boxes
 from .rolling_panel import rolling_boxes
@@ -81,7 +81,7 @@ class PropertiesPanel(QWidget):
         self.direction: QComboBox | None = None
         self._refreshers: list[Callable[[], None]] = []
         self._key: object = None
-        controller.sceneChanged.connect(self.refresh)
+        controller.changed.connect(self.refresh)
         controller.selectionChanged.connect(self.refresh)
         self.refresh()
 
@@ -125,7 +125,7 @@ class PropertiesPanel(QWidget):
         return (lk.id, lk.joint_ids, tuple((k.id, k.joints) for k in lk.links), lk.ground,
                 lk.driver.link, self.selected(), groups, tuple(j.kind for j in lk.joints))
 
-    def refresh(self) -> None:
+    def refresh(self, *_args) -> None:
         """Rebuild the panel if what it shows changed shape; else update the values in place."""
         self._fill_selector()
         key = self._structure_key()

@@ -18,7 +18,7 @@ from PySide6.QtWidgets import QFormLayout, QGroupBox, QLabel
 
 from mechsketch.core.model.rolling_lever import METHODS, RollingLever
 
-from ..element_results import RollingResult
+from mechsketch.core.workspace import RollingResult
 from .element_props import combo_field, push_changes, whole_number
 
 

@@ -28,17 +28,23 @@ def test_dragging_a_joint_resolves_live_and_commits_one_command(qtbot):
     c0 = ctl.scene.element("fourbar").joint("C").at
     trace0 = view._items["fourbar"].trace.traces[0].boundingRect()
     seen = []
-    ctl.solutionsChanged.connect(lambda: seen.append(ctl.result("fourbar").solution))
+    changes = []
+    ctl.changed.connect(lambda ch: (changes.append(ch), seen.append(ctl.result("fourbar").solution)))
     user.drag(c0, (140.0, 100.0), steps=5, release=False)
-    # while dragging: no history, the document and the whole cycle re-solved at every move
+    # while dragging: no history, the document and the whole cycle re-solved at every move;
+    # each move is one preview change naming only the dragged linkage
     assert ctl.undo_stack.count() == 0
+    assert changes and all(ch.preview and ch.ids == {"fourbar"} for ch in changes)
     assert ctl.scene.element("fourbar").joint("C").at == (140.0, 100.0)
-    assert len({id(s) for s in seen}) >= 5
+    # one new solution per move that changed the (grid-snapped) position, none for the others
+    assert len({id(s) for s in seen}) == len(changes) >= 3
     sol = ctl.result("fourbar").solution
     assert len(sol) == 360 and np.allclose(sol.position("C")[0], (140.0, 100.0))
     assert view._items["fourbar"].trace.traces[0].boundingRect() != trace0   # coupler curve redrawn
+    n_previews = len(changes)
     user.release((140.0, 100.0))
     assert ctl.undo_stack.count() == 1 and ctl.undo_stack.text(0) == "move joint C"
+    assert len(changes) == n_previews + 1 and not changes[-1].preview   # one final change on release
     moved = ctl.scene
     sol = ctl.result("fourbar").solution
     for k in (10, 123, 300):

@@ -1,0 +1,94 @@
+"""The one-line Python API: an element of a workspace that solves itself.
+
+``Workspace.open("scene.json")["sixbar"].solve(samples=3600)`` reads like a method of the model,
+but the model records know nothing of solvers: :class:`ElementView` is a thin handle above the
+layers that reads the record and asks the workspace (and so its caches) for every result.
+"""
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any, Iterable
+
+from ..analyses.geneva_contact import GenevaContact, contact
+from ..analyses.geneva_geometry import GenevaGeometry, geometry
+from ..analyses.geneva_kinematics import GenevaKinematics, kinematics
+from ..analyses.rolling_synthesis import RollingSynthesis, synthesize
+from ..errors import RequestError
+from ..solver.plan import Plan, Solution
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .results import ElementResult
+    from .workspace import Workspace
+
+
+class ElementView:
+    """Element ``element_id`` of ``workspace``: its record's attributes plus the one-line API.
+
+    Attribute reads (``view.joints``, ``view.slots``...) go to the element's current record.
+    """
+
+    def __init__(self, workspace: "Workspace", element_id: str) -> None:
+        workspace.element(element_id)  # UnknownIdError naming the scene's ids
+        self._ws = workspace
+        self._id = element_id
+
+    @property
+    def record(self) -> Any:
+        """The element's immutable record as the scene holds it now."""
+        return self._ws.element(self._id)
+
+    def __getattr__(self, name: str) -> Any:
+        if name.startswith("_"):
+            raise AttributeError(name)
+        return getattr(self.record, name)
+
+    def __repr__(self) -> str:
+        return f"ElementView({self._id!r}, {type(self.record).__name__})"
+
+    def _need(self, *types: str) -> Any:
+        rec = self.record
+        if rec.type not in types:
+            raise RequestError(f"element {self._id!r} is a {rec.type}; this applies to {' or '.join(types)}")
+        return rec
+
+    def result(self) -> "ElementResult | None":
+        """The workspace's cached result of this element (see :mod:`mechsketch.core.workspace.results`)."""
+        return self._ws.result(self._id)
+
+    def summary(self) -> str:
+        """The report text ``mechsketch analyze/synthesize --summary`` prints for this element."""
+        res = self.result()
+        return res.summary() if res is not None else f"{self._id}: nothing to report"
+
+    # -- linkages -------------------------------------------------------------------------
+    def compile(self) -> Plan:
+        """The compiled structural plan (raises StructureError / GeometryError)."""
+        self._need("linkage")
+        return self._ws.plan(self._id)
+
+    def solve(self, samples: int | None = None, order: int = 2, joints: Iterable[str] | None = None
+              ) -> Solution:
+        """One driver revolution: N = ``samples`` (default the element's), derivative ``order``
+        0-2, only what ``joints`` depend on. Joint arrays (N, 2) mm; see :class:`Solution`."""
+        self._need("linkage")
+        return self._ws.solve(self._id, samples=samples, order=order, joints=joints)
+
+    # -- Geneva drives --------------------------------------------------------------------
+    def kinematics(self, samples: int | None = None) -> GenevaKinematics:
+        """Wheel angle, ω, α and jerk over one crank revolution (arrays (N,))."""
+        rec = self._need("geneva")
+        return kinematics(rec, samples or rec.samples)
+
+    def contact(self, samples: int | None = None, model: Any = None) -> GenevaContact:
+        """Roller/slot contact and wear over one crank revolution (arrays (N,))."""
+        rec = self._need("geneva")
+        return contact(rec, samples or rec.samples, model or rec.model)
+
+    def geometry(self) -> GenevaGeometry:
+        """The exact wheel, locking disc, crank arm and roller outlines (mm)."""
+        return geometry(self._need("geneva"))
+
+    # -- rolling levers -------------------------------------------------------------------
+    def synthesize(self, method: str | None = None, points: int | None = None, measures: bool = True
+                   ) -> RollingSynthesis:
+        """The rolling profiles (centrodes) with their slip measures."""
+        return synthesize(self._need("rolling_lever"), method=method, points=points, measures=measures)
