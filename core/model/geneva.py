@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from enum import StrEnum
 from typing import Any
 
 from ..errors import GeometryError, Problem
@@ -93,6 +94,28 @@ class Wear:
         return {"allowed_wear": self.allowed_wear, "specific_wear_rate": self.specific_wear_rate}
 
 
+class NormalForce(StrEnum):
+    """How the roller/slot normal force is found (a ``str``: equal to and printed as its value)."""
+
+    DERIVED = "derived"   # moment balance with the friction sign by phase, note B3
+    PAPER = "paper"       # eq. 3 as printed
+
+
+class HalfWidth(StrEnum):
+    """The contact half-width b entering the slip model."""
+
+    PAPER_HALF = "paper_half"  # a_paper / 2, note B2
+    HERTZ = "hertz"            # general Hertz b
+    PAPER_FULL = "paper_full"  # the literal a_paper
+
+
+class SlipRadius(StrEnum):
+    """The roller radius entering the slip model."""
+
+    DEFORMED = "deformed"      # ρ_eff = r_p − Δ, eq. 4
+    UNDEFORMED = "undeformed"  # ρ_eff = r_p
+
+
 @dataclass(frozen=True)
 class ContactModel:
     """Choices of the contact model (each is stated in the analysis output).
@@ -102,15 +125,29 @@ class ContactModel:
     ``half_width``: the half-width b entering the slip model, ``"paper_half"`` (a_paper/2, B2),
     ``"hertz"`` (general Hertz b) or ``"paper_full"`` (the literal a_paper).
     ``slip_radius``: ``"deformed"`` (ρ_eff = r_p − Δ, eq. 4) or ``"undeformed"`` (ρ_eff = r_p).
+    Each is a string enum (:class:`NormalForce`, :class:`HalfWidth`, :class:`SlipRadius`); a
+    plain string given here is converted (ValueError naming the choices if it is none of them).
     """
 
-    normal_force: str = "derived"
-    half_width: str = "paper_half"
-    slip_radius: str = "deformed"
+    normal_force: NormalForce = NormalForce.DERIVED
+    half_width: HalfWidth = HalfWidth.PAPER_HALF
+    slip_radius: SlipRadius = SlipRadius.DEFORMED
+
+    def __post_init__(self) -> None:
+        for name, enum in (("normal_force", NormalForce), ("half_width", HalfWidth),
+                           ("slip_radius", SlipRadius)):
+            value = getattr(self, name)
+            if isinstance(value, enum):
+                continue
+            try:
+                object.__setattr__(self, name, enum(value))
+            except ValueError:
+                choices = ", ".join(repr(m.value) for m in enum)
+                raise ValueError(f"{name} must be one of {choices}; got {value!r}") from None
 
     def to_dict(self) -> dict:
-        return {"normal_force": self.normal_force, "half_width": self.half_width,
-                "slip_radius": self.slip_radius}
+        return {"normal_force": self.normal_force.value, "half_width": self.half_width.value,
+                "slip_radius": self.slip_radius.value}
 
 
 @dataclass(frozen=True)

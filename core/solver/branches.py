@@ -21,7 +21,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .plan import TOUCH_REL
+from .structure import MODAL_KINDS
+from .tolerances import TOUCH_REL
 
 if TYPE_CHECKING:  # pragma: no cover
     from .plan import Plan
@@ -63,7 +64,7 @@ def find_branch_points(plan: "Plan", steps, known: dict[str, np.ndarray]) -> dic
         name = step.group.name
         if name in known:
             continue
-        if step.group.kind not in ("RRR", "RRP", "RPR"):
+        if step.group.kind not in MODAL_KINDS:
             known[name] = np.empty(0)
             continue
         idx = plan.closure(k)

@@ -8,30 +8,47 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from enum import StrEnum
 
 import numpy as np
 
 from .branches import golden_min
-from .plan import TOGGLE_COND, Plan, Solution
+from .plan import Plan, Solution
+from .structure import GroupKind
+from .tolerances import TOGGLE_COND
 
 BISECT_STEPS = 48
 GOLDEN_STEPS = 60
+
+
+class DeadPointKind(StrEnum):
+    """What happens at a dead point; a ``str`` equal to (and printed as) its value."""
+
+    LIMIT = "limit"
+    TOGGLE = "toggle"
+    CHANGE_POINT = "change point"
 
 
 @dataclass(frozen=True)
 class DeadPoint:
     """A toggle: the driver angle (rad), the group, and whether the group stops being assemblable
     there (``"limit"``), passes close to it (``"toggle"``), or passes through it where its two
-    assembly modes meet (``"change point"``: the solution keeps to the smooth branch)."""
+    assembly modes meet (``"change point"``: the solution keeps to the smooth branch).
+    ``kind`` is a :class:`DeadPointKind` (a string given here is converted)."""
 
     input: float
     group: str
-    kind: str
+    kind: DeadPointKind
     conditioning: float
 
+    def __post_init__(self) -> None:
+        if not isinstance(self.kind, DeadPointKind):
+            object.__setattr__(self, "kind", DeadPointKind(self.kind))
+
     def __str__(self) -> str:
-        what = {"limit": "assembly limit",
-                "change point": "change point (the assembly modes meet; the motion keeps to the smooth branch)",
+        what = {DeadPointKind.LIMIT: "assembly limit",
+                DeadPointKind.CHANGE_POINT: "change point (the assembly modes meet; the motion keeps to the "
+                                            "smooth branch)",
                 }.get(self.kind, f"near toggle (conditioning {self.conditioning:.1e})")
         return f"{math.degrees(self.input):.6f}° {self.group}: {what}"
 
@@ -41,7 +58,7 @@ class Diagnostics:
     """What the summary and the GUI's diagnostics panel show."""
 
     mobility: int
-    groups: list[tuple[str, str, float | None]]      # (name, kind, mode)
+    groups: list[tuple[str, GroupKind, int | None]]  # (name, kind, drawn mode ±1 or None)
     samples: int
     valid_fraction: float
     reachable: list[tuple[float, float]]              # input ranges (rad), sweep direction
@@ -54,7 +71,7 @@ class Diagnostics:
     def lines(self) -> list[str]:
         out = [f"mobility: {self.mobility}"]
         for name, kind, mode in self.groups:
-            out.append(f"group {name}: kind {kind}" + (f", mode {mode:+.0f}" if mode is not None else ""))
+            out.append(f"group {name}: kind {kind}" + (f", mode {mode:+d}" if mode is not None else ""))
         if self.full_turn:
             out.append("reachable: full revolution of the driver")
         elif not self.reachable:
@@ -104,8 +121,7 @@ def diagnose(sol: Solution) -> Diagnostics:
     step = sol.input[1] - sol.input[0] if n > 1 else 2 * math.pi
     groups = []
     for g in sol.groups:
-        mode = sol.group_output(g.name).extra.get("mode")
-        groups.append((g.name, g.kind, mode))
+        groups.append((g.name, g.kind, sol.group_output(g.name).mode))
     dead: list[DeadPoint] = []
     reachable: list[tuple[float, float]] = []
     full = bool(valid.all())
@@ -128,7 +144,7 @@ def diagnose(sol: Solution) -> Diagnostics:
         for k, x in enumerate(np.concatenate([end_at, start_at])):
             for g in probe.groups:
                 if not probe.feasible(g.name)[k]:
-                    dead.append(DeadPoint(float(x), g.name, "limit", 0.0))
+                    dead.append(DeadPoint(float(x), g.name, DeadPointKind.LIMIT, 0.0))
                     break
     # near-toggles inside the reachable range: local minima of conditioning below the threshold
     for g in sol.groups:
@@ -142,7 +158,7 @@ def diagnose(sol: Solution) -> Diagnostics:
             x, cmin = _golden_min(plan, g.name, sol.input[k] - step, sol.input[k] + step)
             off = (plan.direction * (x - plan.theta0)) % (2 * math.pi)
             near = branches.size and np.min(np.abs(np.remainder(branches - off + math.pi, 2 * math.pi) - math.pi)) < 1e-5
-            dead.append(DeadPoint(float(x), g.name, "change point" if near else "toggle", cmin))
+            dead.append(DeadPoint(float(x), g.name, DeadPointKind.CHANGE_POINT if near else DeadPointKind.TOGGLE, cmin))
     th0 = float(sol.input[0])
     ends = [x for r in reachable for x in r]
 
@@ -157,7 +173,7 @@ def diagnose(sol: Solution) -> Diagnostics:
     dead.sort(key=lambda d: d.input)
     trans = {}
     for g in sol.groups:
-        if g.kind == "RRR" and valid.any():
+        if g.kind is GroupKind.RRR and valid.any():
             mu = np.degrees(sol.transmission_angle(g.name))
             mu = mu[np.isfinite(mu)]
             if mu.size:

@@ -23,10 +23,11 @@ from ..errors import GeometryError
 from ..model.edits import ReplaceElement
 from ..model.linkage import JointKind, Linkage
 from . import kernels as K
-from .plan import Plan
+from .plan import Plan, compile_plan
+from .structure import MODAL_KINDS, GroupKind
 
 #: kinds whose assembly mode can be flipped
-FLIPPABLE = ("RRR", "RRP", "RPR")
+FLIPPABLE = MODAL_KINDS
 
 
 def _c(xy) -> complex:
@@ -44,7 +45,7 @@ def _flipped_states(plan: Plan, states: dict[str, K.LinkState], index: int) -> N
     link = plan.linkage
     at = {j.id: _c(j.at) for j in link.joints}
     mi, ki = states[g.known_i], states[g.known_j]
-    if g.kind == "RRR":
+    if g.kind is GroupKind.RRR:
         m0, h0, l0 = at[g.outer_i], at[g.outer_j], at[g.inner]
         M, H, L = _one(mi.point(m0)), _one(ki.point(h0)), _one(states[g.link_i].point(l0))
         if abs(H - M) == 0.0:
@@ -53,7 +54,7 @@ def _flipped_states(plan: Plan, states: dict[str, K.LinkState], index: int) -> N
         L2 = M + ((L - M) / d).conjugate() * d
         states[g.link_i] = K.LinkState(m0, np.array([M]), np.array([(L2 - M) / (L - M)]))
         states[g.link_j] = K.LinkState(h0, np.array([H]), np.array([(L2 - H) / (L - H)]))
-    elif g.kind == "RRP":
+    elif g.kind is GroupKind.RRP:
         m0, l0 = at[g.outer_i], at[g.inner]
         axis = link.joint(g.outer_j)
         u = _one(ki.rot) * complex(math.cos(math.radians(axis.axis_deg or 0.0)),
@@ -62,7 +63,7 @@ def _flipped_states(plan: Plan, states: dict[str, K.LinkState], index: int) -> N
         L2 = L - 2.0 * K.dot(np.asarray(u), np.asarray(L - M)).item() * u
         states[g.link_i] = K.LinkState(m0, np.array([M]), np.array([(L2 - M) / (L - M)]))
         states[g.link_j] = K.LinkState(l0, np.array([L2]), np.array([_one(ki.rot)]))
-    elif g.kind == "RPR":
+    elif g.kind is GroupKind.RPR:
         m0, h0 = at[g.outer_i], at[g.outer_j]
         axis = link.joint(g.inner)
         u0 = complex(math.cos(math.radians(axis.axis_deg or 0.0)), math.sin(math.radians(axis.axis_deg or 0.0)))
@@ -85,7 +86,7 @@ def flip_group(linkage: Linkage, group: str) -> Linkage:
     Raises :class:`GeometryError` if the group has no mode, or if a later group cannot be
     assembled on the flipped pose; :class:`StructureError` if the linkage does not decompose.
     """
-    plan = linkage.compile()
+    plan = compile_plan(linkage)
     names = [s.group.name for s in plan.steps]
     if group not in names:
         raise GeometryError(f"linkage {linkage.id!r} has no group {group!r} (groups: {', '.join(names)})")
@@ -138,11 +139,11 @@ def flip_edit(linkage: Linkage, group: str) -> ReplaceElement:
     return ReplaceElement(flip_group(linkage, group), f"flip {group}")
 
 
-def group_modes(linkage: Linkage) -> dict[str, float | None]:
+def group_modes(linkage: Linkage) -> dict[str, int | None]:
     """Assembly mode (+1 / −1, None: no mode) of each group, from the drawn pose."""
-    plan = linkage.compile()
+    plan = compile_plan(linkage)
     sol = plan.evaluate(np.array([plan.theta0]), order=0)
-    return {g.name: sol.group_output(g.name).extra.get("mode") for g in sol.groups}
+    return {g.name: sol.group_output(g.name).mode for g in sol.groups}
 
 
 __all__ = ["FLIPPABLE", "flip_edit", "flip_group", "group_modes"]

@@ -71,12 +71,32 @@ def solve2(c1: Arr, c2: Arr, w: Arr) -> tuple[Arr, Arr, Arr]:
 
 
 @dataclass
+class Slide:
+    """Motion along one prismatic pair: the displacement ``s`` (mm, 0 in the drawn pose) of the
+    sliding link relative to the link carrying the guide, along the guide's axis as that link
+    turns it; ``sd`` (mm/s) and ``sdd`` (mm/s²) its first and second time derivatives (relative
+    rates, as seen from the guide). Float (N,); derivatives None below the requested order;
+    meaningful only where the group's ``ok`` is True.
+    """
+
+    s: Arr
+    sd: Arr | None = None
+    sdd: Arr | None = None
+
+
+@dataclass
 class DyadOut:
     """What a dyad kernel returns: the two link states, the feasibility mask and conditioning.
 
     ``cond`` is |det| / (|c1||c2|) of the velocity system, in [0, 1]: the sine of the angle
     between its columns (|sin μ| for RRR). ``gap`` is the signed assembly margin (mm or mm²,
     negative where the group cannot be assembled) used to locate limits precisely.
+    ``mode`` is the assembly mode read from the drawn pose (+1 or −1; the per-sample mode is it
+    times the branch-point flip), None for PRP and RPP, which have a single assembly.
+    ``slides`` holds one :class:`Slide` per prismatic joint of the group, in the order outer_i,
+    inner, outer_j: RRP (outer_j: slider j on the guide of known_j), RPR (inner: link i on link
+    j), PRP (outer_i: link i on known_i; outer_j: link j on known_j), RPP (inner: link i on link
+    j; outer_j: link j on known_j); none for RRR.
     """
 
     state_i: LinkState
@@ -84,7 +104,8 @@ class DyadOut:
     ok: Arr
     cond: Arr
     gap: Arr
-    extra: dict
+    mode: int | None = None
+    slides: tuple[Slide, ...] = ()
 
 
 #: PRP/RPP: below this |sin| between the two slide axes the lines are taken as parallel (not
@@ -169,7 +190,7 @@ def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: co
         aM, aH = m_state.acceleration(m0, M), h_state.acceleration(h0, H)
         ai, aj, _ = solve2(c1, c2, aH - aM + wi * wi * ri - wj * wj * rj)  # eq. 3
         si.aA, si.alpha, sj.aA, sj.alpha = aM, ai, aH, aj
-    return DyadOut(si, sj, ok, cond, gap, {"mode": mode0, "L": L, "li": li, "lj": lj})
+    return DyadOut(si, sj, ok, cond, gap, int(mode0))
 
 
 def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex, l0: complex,
@@ -212,14 +233,16 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
     else:
         sdd = None
     sj = _slider(g, s0, u0, s, sd, sdd, order)
-    return DyadOut(si, sj, ok, cond, gap, {"mode": mode0, "s": s, "sd": sd, "sdd": sdd})
+    return DyadOut(si, sj, ok, cond, gap, int(mode0), (Slide(s, sd, sdd),))
 
 
-def rpr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, s0: complex, u0: complex,
+def rpr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, u0: complex,
         order: int, flip: Arr | None = None, tol: float = 0.0) -> DyadOut:
-    """RPR dyad: link i (pin M) slides on link j (pin H) along the axis through s0, direction u0.
+    """RPR dyad: link i (pin M) slides on link j (pin H) along an axis of drawn direction u0.
 
-    Both links turn together. Mode: sign of the along-axis distance from H to M, drawn pose.
+    Both links turn together. Only the axis direction matters: M's offset across the axis
+    relative to H's is constant wherever the axis lies. Mode: sign of the along-axis distance
+    from H to M, drawn pose.
     """
     c = cross(np.asarray(u0), np.asarray(m0 - h0)).item()  # constant offset of M from H ⟂ axis
     a_d = dot(np.asarray(u0), np.asarray(m0 - h0)).item()
@@ -249,11 +272,11 @@ def rpr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, s0: co
         si.aA, sj.aA, si.alpha, sj.alpha = aM, aH, al, al
     else:
         sdd = None
-    return DyadOut(si, sj, ok, cond, gap, {"mode": mode0, "s": s, "sd": sd, "sdd": sdd})
+    return DyadOut(si, sj, ok, cond, gap, int(mode0), (Slide(s, sd, sdd),))
 
 
 def prp(g1: LinkState, s1: complex, u1_0: complex, g2: LinkState, s2: complex, u2_0: complex,
-        l0: complex, order: int, flip: Arr | None = None) -> DyadOut:
+        l0: complex, order: int) -> DyadOut:
     """PRP dyad: link i slides on a guide of g1, link j on a guide of g2, pinned together at L.
 
     No assembly mode (two lines meet once); singular when the guides are parallel.
@@ -281,12 +304,13 @@ def prp(g1: LinkState, s1: complex, u1_0: complex, g2: LinkState, s2: complex, u
         r1 = r2 = None
     si = _slider(g1, s1, u1_0, p1, q1, r1, order)
     sj = _slider(g2, s2, u2_0, p2, q2, r2, order)
-    return DyadOut(si, sj, ok, cond, gap, {"s_i": p1, "s_j": p2})
+    return DyadOut(si, sj, ok, cond, gap, None, (Slide(p1, q1, r1), Slide(p2, q2, r2)))
 
 
-def rpp(m_state: LinkState, m0: complex, si0: complex, ui0: complex, g: LinkState, s2: complex,
-        u2_0: complex, order: int, flip: Arr | None = None) -> DyadOut:
-    """RPP dyad: link i pinned at M slides (axis si0, ui0) on link j, which slides on a guide of g.
+def rpp(m_state: LinkState, m0: complex, ui0: complex, g: LinkState, s2: complex, u2_0: complex,
+        order: int) -> DyadOut:
+    """RPP dyad: link i pinned at M slides (axis of drawn direction ui0) on link j, which slides
+    on a guide of g (axis through drawn s2, direction u2_0).
 
     Both links keep the guide's rotation. No assembly mode; singular when the two axes are parallel.
     """
@@ -298,18 +322,15 @@ def rpp(m_state: LinkState, m0: complex, si0: complex, ui0: complex, g: LinkStat
     cond = np.abs(det)
     ok = np.isfinite(p2) & (cond > PARALLEL_COND)
     st_i = LinkState(m0, M, g.rot)
+    q1 = q2 = r1 = r2 = None
     if order >= 1:
         vM = m_state.velocity(m0, M)
         q1, q2, _ = solve2(u1, u2, vM - g.velocity(s2, z2) - 1j * g.omega * (M - z2))
         st_i.vA, st_i.omega = vM, g.omega
-    else:
-        q2 = None
     if order >= 2:
         aM = m_state.acceleration(m0, M)
         ag = g.acceleration(s2, z2) + (1j * g.alpha - g.omega * g.omega) * (M - z2)
         r1, r2, _ = solve2(u1, u2, aM - ag - 2j * g.omega * (q1 * u1 + q2 * u2))
         st_i.aA, st_i.alpha = aM, g.alpha
-    else:
-        r2 = None
     st_j = _slider(g, s2, u2_0, p2, q2, r2, order)
-    return DyadOut(st_i, st_j, ok, cond, cond, {"s_i": p1, "s_j": p2})
+    return DyadOut(st_i, st_j, ok, cond, cond, None, (Slide(p1, q1, r1), Slide(p2, q2, r2)))

@@ -13,16 +13,14 @@ from typing import Callable, Iterable
 
 import numpy as np
 
-from ..errors import GeometryError
+from ..errors import GeometryError, RequestError, UnknownIdError
 from ..model.linkage import JointKind, Linkage
 from . import kernels as K
-from .structure import Group, decompose, mobility
+from .branches import find_branch_points, flip_factor
+from .structure import Group, GroupKind, decompose, mobility
+from .tolerances import TOGGLE_COND, TOUCH_REL
 
-#: below this conditioning (|sin| of the velocity system's column angle) a sample is near a toggle
-TOGGLE_COND = 1e-3
-#: an assembly margin within TOUCH_REL · (group size + coordinate size) of zero is a toggle
-#: touched exactly (rounding, not geometry): it assembles, and may be a branch point
-TOUCH_REL = 64 * np.finfo(float).eps
+__all__ = ["TOGGLE_COND", "TOUCH_REL", "Plan", "Solution", "Step", "compile_plan", "unwrap_finite"]
 
 
 def _c(xy) -> complex:
@@ -88,7 +86,8 @@ class Plan:
             return list(range(len(self.steps)))
         links = []
         for j in joints:
-            self.linkage.joint(j)
+            if j not in self.reporter:
+                raise UnknownIdError(f"linkage {self.linkage.id!r} has no joint {j!r}")
             links.append(self.reporter[j])
         return sorted(self._needed(links))
 
@@ -96,8 +95,6 @@ class Plan:
         """Per group, the input offsets (rad from the drawn pose, driver direction) where the
         smooth motion passes from one assembly mode to the other. Searched once per group, and
         only for the groups asked for (``steps``, closed under dependencies; default all)."""
-        from .branches import find_branch_points
-
         if self._branches is None:
             self._branches = {}
         idx = range(len(self.steps)) if steps is None else steps
@@ -110,8 +107,6 @@ class Plan:
                   branches: dict[str, np.ndarray], omega: float | None = None, alpha: float = 0.0,
                   states: dict | None = None) -> dict[str, K.DyadOut]:
         """Run the kernels of steps ``idx`` at ``inputs`` (the engine under :meth:`evaluate`)."""
-        from .branches import flip_factor
-
         w = self.omega if omega is None else omega
         drv = self.linkage.driver
         if states is None:
@@ -143,7 +138,7 @@ class Plan:
         points crossed since the drawn pose (so the motion stays on its smooth branch).
         """
         if order not in (0, 1, 2):
-            raise ValueError(f"order must be 0, 1 or 2, got {order}")
+            raise RequestError(f"order must be 0, 1 or 2, got {order}")
         idx = self.steps_for(joints)
         branches = self.branch_points(idx)
         start = time.perf_counter()
@@ -165,7 +160,7 @@ class Plan:
         """
         n = int(samples or self.linkage.samples)
         if n < 2:
-            raise ValueError(f"samples must be at least 2, got {n}")
+            raise RequestError(f"samples must be at least 2, got {n}")
         k = np.arange(n)
         sgn = 1.0 if self.omega >= 0 else -1.0
         inputs = self.theta0 + sgn * (2.0 * math.pi / n) * k
@@ -187,33 +182,33 @@ def _compile_step(linkage: Linkage, g: Group) -> Step:
         return TOUCH_REL * (size + coord)
     ki, kj = g.known_i, g.known_j
     scale = 1.0
-    if g.kind == "RRR":
+    if g.kind is GroupKind.RRR:
         m0, h0, l0 = at[g.outer_i], at[g.outer_j], at[g.inner]
         scale = abs(l0 - m0) + abs(l0 - h0)
         tol = touch_tol(scale)
         run = lambda s, o, f: K.rrr(s[ki], m0, s[kj], h0, l0, o, f, tol)  # noqa: E731
-    elif g.kind == "RRP":
+    elif g.kind is GroupKind.RRP:
         m0, l0 = at[g.outer_i], at[g.inner]
         s0, u0 = _axis(linkage, g.outer_j)
         scale = abs(l0 - m0)
         tol = touch_tol(scale)
         run = lambda s, o, f: K.rrp(s[ki], m0, s[kj], s0, u0, l0, o, f, tol)  # noqa: E731
-    elif g.kind == "RPR":
+    elif g.kind is GroupKind.RPR:
         m0, h0 = at[g.outer_i], at[g.outer_j]
-        s0, u0 = _axis(linkage, g.inner)
+        _, u0 = _axis(linkage, g.inner)
         scale = abs(m0 - h0)
         tol = touch_tol(scale)
-        run = lambda s, o, f: K.rpr(s[ki], m0, s[kj], h0, s0, u0, o, f, tol)  # noqa: E731
-    elif g.kind == "PRP":
+        run = lambda s, o, f: K.rpr(s[ki], m0, s[kj], h0, u0, o, f, tol)  # noqa: E731
+    elif g.kind is GroupKind.PRP:
         s1, u1 = _axis(linkage, g.outer_i)
         s2, u2 = _axis(linkage, g.outer_j)
         l0 = at[g.inner]
         run = lambda s, o, f: K.prp(s[ki], s1, u1, s[kj], s2, u2, l0, o)  # noqa: E731
     else:  # RPP
         m0 = at[g.outer_i]
-        si0, ui0 = _axis(linkage, g.inner)
+        _, ui0 = _axis(linkage, g.inner)
         s2, u2 = _axis(linkage, g.outer_j)
-        run = lambda s, o, f: K.rpp(s[ki], m0, si0, ui0, s[kj], s2, u2, o)  # noqa: E731
+        run = lambda s, o, f: K.rpp(s[ki], m0, ui0, s[kj], s2, u2, o)  # noqa: E731
     return Step(g, (ki, kj), run, max(scale, 1e-300))
 
 
@@ -309,8 +304,11 @@ class Solution:
         try:
             return self._states[link]
         except KeyError:
-            self.plan.linkage.link(link)
-            raise KeyError(f"link {link!r} was not solved (not requested)") from None
+            lk = self.plan.linkage
+            if link not in lk.link_ids:
+                raise UnknownIdError(f"linkage {lk.id!r} has no link {link!r}") from None
+            raise UnknownIdError(f"link {link!r} was not solved (not requested: ask for joints "
+                                 f"on it, or for all joints)") from None
 
     def _mask(self, a: np.ndarray) -> np.ndarray:
         """NaN where the pose is not assembled (arithmetic on NaN/inf there raises no warnings)."""
@@ -322,11 +320,13 @@ class Solution:
 
     def _need(self, order: int, what: str) -> None:
         if self.order < order:
-            raise ValueError(f"{what} needs a solve with order >= {order} (this one has order {self.order})")
+            raise RequestError(f"{what} needs a solve with order >= {order} (this one has order {self.order})")
 
     def _joint(self, joint: str) -> tuple[K.LinkState, complex]:
-        drawn = self.plan.linkage.joint(joint)  # KeyError naming an unknown joint
-        return self._state(self.plan.reporter[joint]), _c(drawn.at)
+        lk = self.plan.linkage
+        if joint not in self.plan.reporter:
+            raise UnknownIdError(f"linkage {lk.id!r} has no joint {joint!r}")
+        return self._state(self.plan.reporter[joint]), _c(lk.joint(joint).at)
 
     # -- joints and points ----------------------------------------------------------------
     def position(self, joint: str) -> np.ndarray:
@@ -393,20 +393,30 @@ class Solution:
         return [s.group for s in self.plan.steps if s.group.name in self._outs]
 
     def group_output(self, name: str) -> K.DyadOut:
-        return self._outs[name]
+        """The kernel output of group ``name`` (states, ``ok``, ``cond``, ``gap``, ``mode``,
+        ``slides``); raises :class:`UnknownIdError` for a group not solved here."""
+        try:
+            return self._outs[name]
+        except KeyError:
+            names = [s.group.name for s in self.plan.steps]
+            if name in names:
+                raise UnknownIdError(f"group {name!r} was not solved (not requested)") from None
+            raise UnknownIdError(f"linkage {self.plan.linkage.id!r} has no group {name!r} "
+                                 f"(groups: {', '.join(names) or 'none'})") from None
 
     def conditioning(self, group: str) -> np.ndarray:
         """(N,) |det| of the group's velocity system normalised to [0, 1] (0: toggle)."""
-        return self._outs[group].cond
+        return self.group_output(group).cond
 
     def feasible(self, group: str) -> np.ndarray:
-        return self._outs[group].ok
+        return self.group_output(group).ok
 
     def transmission_angle(self, group: str) -> np.ndarray:
         """(N,) transmission angle μ of an RRR group, rad in [0, π]: the angle at the inner joint."""
+        self.group_output(group)  # UnknownIdError for a group not solved here
         g = next(g for g in self.groups if g.name == group)
-        if g.kind != "RRR":
-            raise ValueError(f"transmission angle is defined here for RRR groups; {group} is {g.kind}")
+        if g.kind is not GroupKind.RRR:
+            raise RequestError(f"transmission angle is defined here for RRR groups; {group} is {g.kind}")
         L = self.position(g.inner)
         a = self.position(g.outer_i) - L
         b = self.position(g.outer_j) - L

@@ -8,12 +8,29 @@ in solving order; :mod:`mechsketch.core.solver.plan` compiles them into array ke
 from __future__ import annotations
 
 from dataclasses import dataclass
+from enum import StrEnum
 
 from ..errors import StructureError
 from ..model.linkage import JointKind, Linkage
 
-#: kinds we solve, as (outer joint of link i, inner joint, outer joint of link j)
-DYAD_KINDS = ("RRR", "RRP", "RPR", "PRP", "RPP")
+
+class GroupKind(StrEnum):
+    """Kind of a class-II group, read as (outer joint of link i, inner joint, outer joint of link j).
+
+    A ``str``: ``GroupKind.RRR == "RRR"``, and ``str``/f-strings/JSON give ``"RRR"``.
+    """
+
+    RRR = "RRR"
+    RRP = "RRP"
+    RPR = "RPR"
+    PRP = "PRP"
+    RPP = "RPP"
+
+
+#: kinds we solve
+DYAD_KINDS: tuple[GroupKind, ...] = tuple(GroupKind)
+#: kinds with two assembly modes, chosen by the drawn pose (PRP, RPP: two lines meet once)
+MODAL_KINDS: tuple[GroupKind, ...] = (GroupKind.RRR, GroupKind.RRP, GroupKind.RPR)
 
 
 @dataclass(frozen=True)
@@ -22,11 +39,12 @@ class Group:
 
     ``link_i``/``link_j`` are the two unknown links, ``inner`` the joint between them,
     ``outer_i``/``outer_j`` their joints to known links ``known_i``/``known_j``. ``kind`` reads
-    outer_i + inner + outer_j (e.g. "RRP": link j is a slider on a guide of ``known_j``).
+    outer_i + inner + outer_j (e.g. "RRP": link j is a slider on a guide of ``known_j``); a
+    :class:`GroupKind` (a string given here is converted).
     """
 
     name: str
-    kind: str
+    kind: GroupKind
     link_i: str
     link_j: str
     inner: str
@@ -34,6 +52,10 @@ class Group:
     outer_j: str
     known_i: str
     known_j: str
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.kind, GroupKind):
+            object.__setattr__(self, "kind", GroupKind(self.kind))
 
     @property
     def joints(self) -> tuple[str, str, str]:
@@ -132,7 +154,7 @@ def decompose(linkage: Linkage) -> list[Group]:
                         f"links {li!r} and {lj!r} form a PPP group (three prismatic joints "
                         f"{oi[0][0]}, {jid}, {oj[0][0]}): its rotation is undetermined",
                         joints=(oi[0][0], jid, oj[0][0]), links=(li, lj))
-                found = Group(f"{kind}({li_},{lj_})", kind, li_, lj_, jid, oi_[0][0], oj_[0][0],
+                found = Group(f"{kind}({li_},{lj_})", GroupKind(kind), li_, lj_, jid, oi_[0][0], oj_[0][0],
                               oi_[0][1], oj_[0][1])
                 break
             if found:

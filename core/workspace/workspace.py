@@ -13,8 +13,9 @@ lazy and cached:
   (:mod:`mechsketch.core.solver.incremental`);
 - a solve request (order, samples, joints) is cached beside the default result.
 
-``stats`` counts the solves actually run (per element kind, and incremental ones), so tests and
-benchmarks can check that an edit re-solves only what it touches.
+``stats`` counts the solves actually run (``solve:<kind>`` per element kind, ``solve:request``;
+``incremental`` says how many of the linkage solves were re-sweeps), so tests and benchmarks can
+check that an edit re-solves only what it touches.
 """
 from __future__ import annotations
 
