@@ -70,10 +70,11 @@ class ExportTask(QRunnable):
         el = self.element
         try:
             if isinstance(el, Geneva):
+                from mechsketch.core.analyses.geneva_geometry import geometry
                 from mechsketch.core.io.dxf_geneva import export_geneva
 
                 self.signals.progress.emit(f"building the exact outline of {el.id}…")
-                el.geometry()
+                geometry(el)
                 if self._stopped():
                     return
                 self.signals.progress.emit(f"writing {Path(self.path).name}…")

@@ -304,28 +304,6 @@ class Geneva:
         lock = self.drawing.locking_arc_radius if self.drawing else None
         return wheel_dimensions(self.slots, self.center_distance, self.roller_radius, self.clearance, lock)
 
-    # -- analyses (in mechsketch.core.analyses; imported lazily: model < analyses) -----------
-    def kinematics(self, samples: int | None = None):
-        """Wheel angle, ω, α, jerk over one crank revolution: see
-        :func:`mechsketch.core.analyses.geneva_kinematics.kinematics`."""
-        from ..analyses.geneva_kinematics import kinematics
-
-        return kinematics(self, samples or self.samples)
-
-    def contact(self, samples: int | None = None, model: ContactModel | None = None):
-        """Roller/slot contact and wear after Stetsiv, corrected: see
-        :func:`mechsketch.core.analyses.geneva_contact.contact`."""
-        from ..analyses.geneva_contact import contact
-
-        return contact(self, samples or self.samples, model or self.model)
-
-    def geometry(self):
-        """Wheel, locking disc, crank arm and roller as exact lines and arcs: see
-        :func:`mechsketch.core.analyses.geneva_geometry.geometry` (raises GeometryError)."""
-        from ..analyses.geneva_geometry import geometry
-
-        return geometry(self)
-
     def to_dict(self) -> dict:
         d: dict[str, Any] = {
             "type": "geneva", "id": self.id, "slots": self.slots,

@@ -168,14 +168,3 @@ class Linkage:
             "driver": self.driver.to_dict() if self.has_driver else None,
             "samples": self.samples,
         }
-
-    # -- solving (the solver lives in mechsketch.core.solver; imported lazily: model < solver)
-    def compile(self):
-        """Compile the structural plan once (raises StructureError if not decomposable)."""
-        from ..solver.plan import compile_plan
-
-        return compile_plan(self)
-
-    def solve(self, samples: int | None = None, order: int = 2, joints=None):
-        """Solve one driver revolution: see :meth:`mechsketch.core.solver.plan.Plan.sweep`."""
-        return self.compile().sweep(samples=samples or self.samples, order=order, joints=joints)

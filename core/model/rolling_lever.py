@@ -126,13 +126,6 @@ class RollingLever:
         assert p is not None and p0 is not None
         return p, p0
 
-    # -- derived results (computed in analyses; imported lazily: model < analyses) ----------
-    def synthesize(self, method: str | None = None, points: int | None = None, measures: bool = True):
-        """Synthesise the profiles: see :func:`mechsketch.core.analyses.rolling_synthesis.synthesize`."""
-        from ..analyses.rolling_synthesis import synthesize
-
-        return synthesize(self, method=method, points=points, measures=measures)
-
     def to_dict(self) -> dict[str, Any]:
         d: dict[str, Any] = {
             "type": "rolling_lever",

@@ -12,6 +12,9 @@ import numpy as np
 import pytest
 
 from mechsketch.core import load_scene
+from mechsketch.core.analyses.geneva_contact import contact
+from mechsketch.core.analyses.geneva_geometry import geometry
+from mechsketch.core.analyses.geneva_kinematics import kinematics
 from mechsketch.core.cli import main
 from mechsketch.core.cli.geneva_cmds import COLUMNS
 from mechsketch.resources import example_path
@@ -45,7 +48,7 @@ def test_analyze_csv_rows_values_and_empty_dwell(capsys, name):
     head, rows = table(out)
     assert head == list(COLUMNS) and len(rows) == 360
     el = load_scene(path).element("indexer")
-    kin, con = el.kinematics(360), el.contact(360)
+    kin, con = kinematics(el, 360), contact(el, 360, el.model)
     col = {h: k for k, h in enumerate(head)}
     for i in (0, 100, 150, 180, 250, 359):
         r = rows[i]
@@ -136,7 +139,7 @@ def test_example_scenes_are_the_notes_defaults(name, z, eps):
     assert el.slots == z and el.center_distance == 100.0 and el.roller_radius == 8.0 and el.roller_length == 10.0
     assert el.omega1 == pytest.approx(10.0, rel=1e-4)  # 95.49 rpm
     assert (el.load.wheel_inertia, el.load.journal_friction, el.load.journal_radius) == (0.05, 0.05, 15.0)
-    k = el.kinematics()
+    k = kinematics(el, el.samples)
     assert round(k.accel_peak_ratio, 2) == eps
-    geo = el.geometry()
+    geo = geometry(el)
     assert geo.relief.drawn > geo.relief.classical

@@ -9,6 +9,7 @@ import pytest
 from scipy import integrate
 
 from mechsketch.core.analyses.geneva_contact import breakpoints, ContactConstants, slip_path_gauss
+from mechsketch.core.analyses.geneva_contact import contact
 from mechsketch.core.model.geneva import ContactModel, Drawing, Geneva, Load, Material
 
 RPM10 = 300.0 / math.pi  # ω1 = 10 rad/s
@@ -23,7 +24,7 @@ def default(**kw) -> Geneva:
 def test_notes_default_scene_table():
     """seeds/NOTES.md, "Default scene values" (paper's R_n)."""
     el = default()
-    c = el.contact(3600, PAPER)
+    c = contact(el, 3600, PAPER)
     e = c.engaged
     u = c.u[e]
     assert c.Rn[e][np.argmin(np.abs(u))] == 0.0  # R_n = 0 at φ = 0
@@ -104,7 +105,7 @@ def test_slip_path_and_wear_against_scipy_with_breaks(z, model, mext, rpm):
             assert abs(fields(x)[2]) < 1e-6 * abs(el.load.wheel_inertia * el.omega1 ** 2)
     ls = sum(integrate.quad(lambda u: fields(u)[0], lo, hi, epsabs=0, epsrel=1e-9, limit=200)[0]
              for lo, hi in zip(br[:-1], br[1:]))
-    c = el.contact(3600, model)
+    c = contact(el, 3600, model)
     assert c.slip_path_total == pytest.approx(ls, rel=1e-7)
     assert c.slip_path_total_trapezoid == pytest.approx(ls, rel=2e-6)
     # the reference differentiates positions numerically (≈1e-8); the two Gauss rules agree far better
@@ -131,7 +132,7 @@ def test_sampled_columns_against_the_independent_fields_and_eq5_against_drho():
     el = default(load=Load(external_moment=0.7))
     model = ContactModel()
     fields = reference_integrand(el, model)
-    c = el.contact(720, model)
+    c = contact(el, 720, model)
     e = np.nonzero(c.engaged)[0]
     for k in e[::7]:
         g, pbar, m = fields(c.u[k])
@@ -152,7 +153,7 @@ def test_sampled_columns_against_the_independent_fields_and_eq5_against_drho():
 def test_robust_rolling_ratio_where_the_printed_form_cancels():
     el = default()
     lam = el.lam
-    c = el.contact(3600, ContactModel())
+    c = contact(el, 3600, ContactModel())
     u = c.u[c.engaged]
     w = c.rolling_ratio[c.engaged]
     d = 1 - 2 * lam * np.cos(u) + lam * lam
@@ -166,27 +167,27 @@ def test_robust_rolling_ratio_where_the_printed_form_cancels():
 def test_two_materials_hertz_half_width():
     bronze = Material(E=110000.0, poisson=0.34)
     el = default(wheel_material=bronze)
-    c = el.contact(1200, ContactModel())
+    c = contact(el, 1200, ContactModel())
     estar = 1 / ((1 - 0.3 ** 2) / 210000.0 + (1 - 0.34 ** 2) / 110000.0)
     e = c.engaged
     assert np.allclose(c.hertz_half_width[e], np.sqrt(4 * c.Rn[e] * 8.0 / (math.pi * 10.0 * estar)), rtol=1e-13)
     epair = 2 * 210000.0 * 110000.0 / 320000.0
     assert np.allclose(c.strip_width[e], 2.16 * np.sqrt(c.Rn[e] * 16.0 / (10.0 * epair)), rtol=1e-13)
-    steel = default().contact(1200, ContactModel())
+    steel = contact(default(), 1200, ContactModel())
     assert np.nanmax(c.contact_pressure) < np.nanmax(steel.contact_pressure)  # softer wheel, lower pressure
 
 
 def test_trapezoid_converges_at_second_order_with_breaks():
     el = default(z=4, load=Load(external_moment=3.0))
     ref = slip_path_gauss(el, ContactModel(), 200)
-    errs = [abs(el.contact(n, ContactModel()).slip_path_total_trapezoid - ref) for n in (400, 800, 1600, 3200)]
+    errs = [abs(contact(el, n, ContactModel()).slip_path_total_trapezoid - ref) for n in (400, 800, 1600, 3200)]
     rates = [errs[i] / errs[i + 1] for i in range(3)]
     assert all(3.3 < q < 4.7 for q in rates), (errs, rates)
 
 
 def test_clockwise_crank_gives_the_mirror_image():
-    ccw = default(z=5).contact(1000, ContactModel())
-    cw = default(z=5, speed_rpm=-RPM10).contact(1000, ContactModel())
+    ccw = contact(default(z=5), 1000, ContactModel())
+    cw = contact(default(z=5, speed_rpm=-RPM10), 1000, ContactModel())
     for name in ("Rn", "Rn_paper", "moment", "slip_path", "slip_speed", "contact_pressure", "rolling_ratio"):
         assert np.allclose(getattr(cw, name), getattr(ccw, name), equal_nan=True, rtol=1e-12, atol=1e-15), name
     assert np.allclose(cw.phi, -ccw.phi)
@@ -196,16 +197,16 @@ def test_clockwise_crank_gives_the_mirror_image():
 def test_no_load_gives_zero_force_and_no_nan_warnings():
     el = default(load=Load(wheel_inertia=0.0, external_moment=0.0))
     with np.errstate(all="raise"):
-        c = el.contact(360, ContactModel())
+        c = contact(el, 360, ContactModel())
     e = c.engaged
     assert np.all(c.Rn[e] == 0) and np.all(c.deformation[e] == 0) and c.slip_path_total == 0.0 == c.slip_path_total_trapezoid
     assert np.all(np.isnan(c.wear_invariant)) and math.isinf(c.life.cycles) and c.Rn_max == 0.0
 
 
 def test_every_assumption_is_stated():
-    text = " ".join(default().contact(100, ContactModel(half_width="hertz", slip_radius="undeformed")).assumptions)
+    text = " ".join(contact(default(), 100, ContactModel(half_width="hertz", slip_radius="undeformed")).assumptions)
     for words in ("λ = r/A = sin(π/z)", "derived from the wheel's moment balance", "the Hertz half-width b",
                   "undeformed radius r_p", "N·min/m", "Archard", "upper bound", "spurious ω1"):
         assert words in text
-    text = " ".join(default().contact(100, PAPER).assumptions)
+    text = " ".join(contact(default(), 100, PAPER).assumptions)
     assert "eq. (3) as printed" in text and "a_paper/2" in text and "deformed radius r_p − Δ" in text

@@ -11,6 +11,7 @@ import shapely
 from ezdxf.math import bulge_to_arc
 
 from mechsketch.core import ExportError
+from mechsketch.core.analyses.geneva_geometry import geometry
 from mechsketch.core.io.dxf_geneva import LAYERS, export_geneva
 from mechsketch.core.model.geneva import Drawing, Geneva
 
@@ -122,7 +123,7 @@ def test_every_arc_is_a_bulge_and_the_slots_are_true_stadiums(z6):
 def test_areas_against_closed_forms(z6):
     el, path, _ = z6
     _, parts = read_parts(path)
-    geo = el.geometry()
+    geo = geometry(el)
     wheel, wring = parts["wheel"]
     closed = notes_wheel_area(6, 100.0, 8.0, 0.05, 0.5, 15.0)
     perim = sum(shapely.LinearRing(r).length for r in wring)

@@ -13,6 +13,7 @@ from hypothesis import strategies as st
 
 from mechsketch.core.analyses.geneva_clearance import check_clearances
 from mechsketch.core.analyses.geneva_contour import Contour
+from mechsketch.core.analyses.geneva_geometry import geometry
 from mechsketch.core.analyses.geneva_geometry import relief_values, wheel_outline
 from mechsketch.core.model.geneva import Clearances, Drawing, Geneva, parse
 
@@ -47,7 +48,7 @@ def test_contour_primitives_exact_area_offset_and_polyline():
 @pytest.mark.parametrize("z", range(3, 13))
 def test_wheel_area_exact_equals_the_notes_closed_form_and_shapely(z):
     el = drive(z)
-    geo = el.geometry()
+    geo = geometry(el)
     d = geo.dims
     ro, w, xc, xb, ra, a = d.outer_radius, d.w, d.x_c, d.x_b, d.lock_arc_radius, d.center_distance
     closed = (math.pi * ro ** 2 - z * (2 * w * (xc - xb) + math.pi * w * w / 2 + (ro ** 2 * math.acos(xc / ro) - xc * w))
@@ -66,7 +67,7 @@ def test_wheel_area_exact_equals_the_notes_closed_form_and_shapely(z):
 
 
 def test_limits_reported_for_the_default_scene():
-    geo = drive(6, drawing=None).geometry()  # bore = journal radius 15 mm
+    geo = geometry(drive(6, drawing=None))  # bore = journal radius 15 mm
     d = geo.dims
     assert round(d.hub_max, 2) == 41.45 and round(d.slot_depth, 2) == 45.15
     assert math.degrees(d.land_angle) == pytest.approx(2.6716, abs=1e-4)
@@ -77,13 +78,13 @@ def test_limits_reported_for_the_default_scene():
 
 
 def test_relief_values_of_the_notes_and_beyond():
-    r6 = drive(6).geometry().relief
+    r6 = geometry(drive(6)).relief
     assert round(r6.classical, 3) == 86.976
     assert round(r6.touch, 2) == 87.50  # "relief radius ≥ 87.50 mm (R_o = 86.976)"
     assert r6.exact == pytest.approx(r6.touch + 0.1, abs=1e-6)  # the horn land binds: offset by c_l
     assert r6.drawn >= r6.exact and r6.drawn - r6.exact < 1e-3
     for z in range(3, 13):
-        r = drive(z).geometry().relief
+        r = geometry(drive(z)).relief
         excess = (r.touch - r.classical) / 100.0
         assert 0.002 < excess < 0.012, (z, excess)  # R_o + (0.2 … 1.2) % A
         assert r.exact >= r.limit_end - 1e-12 and r.exact >= r.touch
@@ -123,7 +124,7 @@ def test_relief_value_function_is_the_farthest_covered_disc_point():
 
 @pytest.mark.parametrize("z", [3, 4, 6, 8, 12])
 def test_shapely_sweep_no_overlap_roller_clearance_equals_slot_clearance(z):
-    geo = drive(z).geometry()
+    geo = geometry(drive(z))
     rep = check_clearances(geo, 360)
     tol = 2 * rep.tol
     assert not rep.overlap_roller and not rep.overlap_disc
@@ -138,14 +139,14 @@ def test_shapely_sweep_no_overlap_roller_clearance_equals_slot_clearance(z):
 
 @pytest.mark.parametrize("z", [5, 9])
 def test_relief_is_tight(z):
-    geo = drive(z).geometry()
+    geo = geometry(drive(z))
     smaller = check_clearances(geo, 360, relief_radius=geo.relief.exact - 0.01)
     assert smaller.disc < 0.1 - 0.005 and abs(smaller.phi_disc) < geo.dims.phi0
 
 
 def test_world_placement_keeps_the_roller_on_the_slot_axis():
     el = drive(5, crank_center=(40.0, -25.0), wheel_direction_deg=137.0)
-    geo = el.geometry()
+    geo = geometry(el)
     o2 = np.array(el.wheel_center)
     for phi in np.linspace(-geo.dims.phi0, geo.dims.phi0, 9):
         parts = geo.placed(phi)
@@ -180,7 +181,7 @@ def valid_drives(draw):
 @settings(max_examples=8, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
 @given(valid_drives())
 def test_random_valid_drives_build_clear_and_never_overlap(el):
-    geo = el.geometry()
+    geo = geometry(el)
     assert geo.wheel.polygon(1e-4).is_valid and geo.locking_disc.polygon(1e-4).is_valid
     assert geo.wheel_area == pytest.approx(geo.wheel_area_closed_form, rel=1e-10)
     assert geo.locking_margin > 0 and geo.relief.drawn > geo.relief.classical

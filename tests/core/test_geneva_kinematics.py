@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from mechsketch.core.analyses.geneva_kinematics import accel_ratio, jerk_ratio, peak_accel, velocity_ratio
+from mechsketch.core.analyses.geneva_kinematics import kinematics
 from mechsketch.core.model.geneva import Drawing, Geneva
 
 W1 = 10.0
@@ -36,7 +37,7 @@ def drive(z: int, rpm: float = RPM, **kw) -> Geneva:
 @pytest.mark.parametrize("row", TABLE, ids=[f"z{r[0]}" for r in TABLE])
 def test_notes_table(row):
     z, lam, eng, motion, i_max, phi_m, eps, jump, j0 = row
-    k = drive(z).kinematics(3600)
+    k = kinematics(drive(z), 3600)
     assert round(k.lam, 5) == lam
     assert round(math.degrees(2 * k.phi0), 1) == eng
     assert round(k.motion_fraction, 4) == motion and k.dwell_fraction == pytest.approx(1 - k.motion_fraction)
@@ -80,7 +81,7 @@ def test_closed_forms_against_finite_differences_and_a_dense_search(z):
                                                (12, 3601, 90.0, 2 * RPM)])
 def test_sampled_table_against_independent_geometry_and_finite_differences(z, n, direction, rpm):
     el = drive(z, rpm, wheel_direction_deg=direction, crank_center=(12.0, -7.0))
-    k = el.kinematics(n)
+    k = kinematics(el, n)
     assert len(k.phi) == n and np.all(np.diff(k.t) > 0) and k.t[0] == 0.0
     assert k.t[-1] == pytest.approx(k.period * (n - 1) / n)
     # the wheel's slot 0 points from the wheel centre at the roller centre while engaged
@@ -106,7 +107,7 @@ def test_sampled_table_against_independent_geometry_and_finite_differences(z, n,
 
 def test_acceleration_is_a_step_at_entry_and_exit_never_interpolated():
     el = drive(6)
-    k = el.kinematics(3600)  # φ0 = 60° falls on a sample
+    k = kinematics(el, 3600)  # φ0 = 60° falls on a sample
     jump = math.tan(math.pi / 6) * el.omega1 ** 2
     first, last = np.nonzero(k.engaged)[0][[0, -1]]
     assert k.phi[first] == pytest.approx(-k.phi0, abs=1e-12) and k.phi[last] == pytest.approx(k.phi0, abs=1e-12)
@@ -122,7 +123,7 @@ def test_acceleration_is_a_step_at_entry_and_exit_never_interpolated():
 
 def test_clockwise_crank_mirrors_the_motion():
     n = 1000
-    ccw, cw = drive(5).kinematics(n), drive(5, -RPM).kinematics(n)
+    ccw, cw = kinematics(drive(5), n), kinematics(drive(5, -RPM), n)
     assert cw.phi[0] == math.pi and cw.phi[1] < cw.phi[0]  # time order: the crank angle decreases
     assert np.array_equal(cw.engaged, ccw.engaged)
     # mirror image about the line of centres, sample by sample
@@ -143,5 +144,5 @@ def test_clockwise_crank_mirrors_the_motion():
 
 
 def test_peak_acceleration_falls_with_z_as_in_the_example_scenes():
-    eps = [drive(z).kinematics(3600).accel_peak_ratio for z in (4, 6, 8)]
+    eps = [kinematics(drive(z), 3600).accel_peak_ratio for z in (4, 6, 8)]
     assert [round(e, 2) for e in eps] == [5.41, 1.35, 0.70]

@@ -9,6 +9,7 @@ import math
 import pytest
 
 from mechsketch.core import GeometryError, SceneFormatError, load_scene, loads_scene
+from mechsketch.core.analyses.geneva_geometry import geometry
 from mechsketch.core.io.scene_file import dumps_scene, scene_from_dict
 from mechsketch.core.model.geneva import (Clearances, Drawing, Geneva, require_valid,
                                           wheel_dimensions)
@@ -191,7 +192,7 @@ def test_pin_and_crank_bore_limits():
     # inside the necessary bound but beyond the exact relief: caught when the geometry is built
     g = loads_scene(json.dumps(scene(with_("drawing", {"crank_bore_radius": 12.8})))).element("indexer")
     with pytest.raises(GeometryError, match=r"crank_bore_radius = 12.8 mm must be below A − relief radius = 12.398"):
-        g.geometry()
+        geometry(g)
 
 
 def test_schema_problems_unknown_key_wrong_type_bad_enum():
@@ -225,6 +226,6 @@ def test_bad_file_raises_scene_format_error_naming_the_file(tmp_path):
 def test_elements_built_in_code_are_checked_too():
     assert require_valid(Geneva("ok", 6, 100.0, 8.0)).slots == 6
     with pytest.raises(GeometryError, match=r"geneva 'g3'.*no hub"):
-        Geneva("g3", 3, 100.0, 8.0).geometry()
+        geometry(Geneva("g3", 3, 100.0, 8.0))
     with pytest.raises(GeometryError, match="at least 3 slots"):
         require_valid(Geneva("g2", 2, 100.0, 8.0))

@@ -6,6 +6,7 @@ the ``shell`` fixture uses the app's real canvas, player and scrub bar.
 """
 from __future__ import annotations
 
+import sys
 from collections import deque
 
 import pytest
@@ -107,3 +108,13 @@ def open_example(shell, name: str):
     parts = shell()
     parts.window.actions[f"example:{name}"].trigger()
     return parts, parts.controller, parts.window.canvas
+
+
+def patch_everywhere(monkeypatch, func, replacement) -> None:
+    """Replace the core function ``func`` in its module and in every loaded mechsketch module that
+    imported it (``from ... import func [as name]``), e.g. to prove that playback computes nothing."""
+    for name, mod in list(sys.modules.items()):
+        if name.startswith("mechsketch"):
+            for attr, value in list(vars(mod).items()):
+                if value is func:
+                    monkeypatch.setattr(mod, attr, replacement)

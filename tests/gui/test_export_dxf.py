@@ -10,7 +10,7 @@ from PySide6.QtGui import QKeySequence
 
 from mechsketch import resources
 from mechsketch.core import load_scene
-from mechsketch.core.model.geneva import Geneva
+from mechsketch.core.analyses import geneva_geometry
 from mechsketch.gui.export_worker import ExportTask
 
 from app_fakes import shell  # noqa: F401 - fixture
@@ -41,8 +41,8 @@ def test_export_writes_a_dxf_in_millimetres_off_the_gui_thread(shell, qtbot, tmp
     before = c.scene
     threads = []
     if name.startswith("geneva"):
-        real = Geneva.geometry
-        monkeypatch.setattr(Geneva, "geometry", lambda self: threads.append(threading.current_thread()) or real(self))
+        real = geneva_geometry.geometry
+        monkeypatch.setattr(geneva_geometry, "geometry", lambda el: threads.append(threading.current_thread()) or real(el))
     target = tmp_path / "drawing"                    # no suffix: .dxf is added
     _export(parts, qtbot, target)
     path = tmp_path / "drawing.dxf"

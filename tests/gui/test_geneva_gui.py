@@ -11,13 +11,15 @@ from PySide6.QtGui import QPainterPath
 
 from mechsketch import resources
 from mechsketch.core import load_scene
-from mechsketch.core.analyses import geneva_kinematics
+from mechsketch.core.analyses.geneva_contact import contact
+from mechsketch.core.analyses.geneva_geometry import geometry
+from mechsketch.core.analyses.geneva_kinematics import kinematics
 from mechsketch.core.cli import geneva_cmds
 from mechsketch.core.model.geneva import Geneva
 from mechsketch.gui.canvas.geneva_items import ARC_PIECE
 
 from app_fakes import shell  # noqa: F401 - fixture
-from app_fakes import type_into as _type, open_example as _open
+from app_fakes import patch_everywhere, type_into as _type, open_example as _open
 
 
 def _subpaths(path):
@@ -99,15 +101,15 @@ def test_opening_an_example_draws_the_exact_wheel_and_driver(shell, name):
 def test_playing_turns_the_crank_and_the_wheel_by_the_kinematics(shell, qtbot, monkeypatch):
     parts, c, view = _open(shell, "geneva_z6")
     el = c.scene.element("indexer")
-    kin = el.kinematics()
+    kin = kinematics(el, el.samples)
     item = view.element_items["indexer"]
     player = parts.window.player
     assert c.sample_count() == el.samples == 3600
 
     def boom(*a, **k):
         raise AssertionError("the animation solved something")
-    monkeypatch.setattr(geneva_kinematics, "kinematics", boom)
-    monkeypatch.setattr(Geneva, "geometry", boom)
+    for func in (kinematics, contact, geometry):
+        patch_everywhere(monkeypatch, func, boom)
     frames = []
     c.frameChanged.connect(frames.append)
     player.play()
@@ -186,7 +188,7 @@ def test_plots_show_kinematics_and_contact_against_the_crank_angle(shell):
     parts, c, _ = _open(shell, "geneva_z6")
     plots = parts.window.plots
     el = c.scene.element("indexer")
-    kin, con = el.kinematics(), el.contact()
+    kin, con = kinematics(el, el.samples), contact(el, el.samples, el.model)
     assert {"wheel.angle", "wheel.ω", "wheel.α", "wheel.jerk", "Rn (derived)", "slip path", "p_max"} <= set(plots.curves)
     x, y = plots.curves["wheel.ω"].getData()
     assert np.allclose(x, np.degrees(kin.phi)) and np.allclose(y, kin.omega)
@@ -232,7 +234,7 @@ def test_with_a_linkage_the_drive_follows_by_cycle_phase(shell):
     c.reset(Scene((fourbar, geneva)), None)
     assert c.sample_count() == 360 and c.element_result("indexer").n_frames == 3600
     item = view.element_items["indexer"]
-    kin = geneva.kinematics()
+    kin = kinematics(geneva, geneva.samples)
     c.set_frame(90)                                   # a quarter of the cycle: sample 900 of 3600
     assert item.index == 900
     assert _wrap(item.wheel_rotation() - kin.wheel_angle[900]) == pytest.approx(0.0, abs=1e-9)
@@ -248,7 +250,7 @@ def test_a_geneva_scene_animates_at_its_crank_speed_and_reads_out_the_crank_angl
     parts, c, _ = _open(shell, "geneva_z6")
     el = next(e for e in c.scene.elements if isinstance(e, Geneva))
     assert c.cycle_period() == pytest.approx(60.0 / abs(el.speed_rpm))
-    kin = el.kinematics()
+    kin = kinematics(el, el.samples)
     c.set_frame(900)
     text, ok = c.frame_text()
     assert ok and f"crank φ {math.degrees(kin.phi[900]):.1f}°" in text and "frame 901/3600" in text

@@ -11,12 +11,12 @@ from PySide6.QtCore import QPointF
 from PySide6.QtGui import QPainterPath
 
 from mechsketch.core import ReplaceElement
-from mechsketch.core.analyses import rolling_synthesis
+from mechsketch.core.analyses.rolling_synthesis import synthesize
 from mechsketch.core.cli import rolling_cmds
 from mechsketch.core.model.rolling_lever import RollingLever
 
 from app_fakes import shell  # noqa: F401 - fixture
-from app_fakes import type_into as _type, open_example as _open
+from app_fakes import patch_everywhere, type_into as _type, open_example as _open
 
 
 def _dense(item, n=2000):
@@ -31,7 +31,7 @@ def test_opening_an_example_draws_profiles_lever_and_slider(shell, name):
     parts, c, view = _open(shell, name)
     el = c.scene.elements[0]
     assert isinstance(el, RollingLever)
-    res = el.synthesize(measures=False)
+    res = synthesize(el, measures=False)
     item = view.element_items[el.id]
     assert {"frame_profile", "bicentrode", "lever_plate", "lever_arc", "slider_arc", "slider_profile"} <= set(item.paths)
     # the frame profile is the fixed centrode: it passes through every synthesised contact P_k
@@ -62,15 +62,14 @@ def test_opening_an_example_draws_profiles_lever_and_slider(shell, name):
 def test_playing_moves_the_lever_and_slider_by_the_drives_frames(shell, qtbot, monkeypatch):
     parts, c, view = _open(shell, "rolling_lever_press")
     el = c.scene.element("press")
-    res = el.synthesize(measures=False)
+    res = synthesize(el, measures=False)
     item = view.element_items["press"]
     n = c.sample_count()
     assert n == max(2 * el.points, 360) == item.n_frames
 
     def boom(*a, **k):
         raise AssertionError("the animation solved something")
-    monkeypatch.setattr(rolling_synthesis, "synthesize", boom)
-    monkeypatch.setattr(RollingLever, "synthesize", boom)
+    patch_everywhere(monkeypatch, synthesize, boom)
     frames = []
     c.frameChanged.connect(frames.append)
     parts.window.player.play()
@@ -169,7 +168,7 @@ def test_without_a_drive_the_lever_runs_the_stroke_there_and_back(shell):
     item = view.element_items["inclined"]
     k = n // 4
     c.set_frame(k)
-    state, s5 = el.synthesize(measures=False).pose(np.array([fr.theta[k]]))   # the core's exact motion
+    state, s5 = synthesize(el, measures=False).pose(np.array([fr.theta[k]]))   # the core's exact motion
     f = item.lever.mapToScene(QPointF(*el.pin))
     assert (f.x(), f.y()) == pytest.approx(tuple(state.F[0]), abs=1e-9)
     assert item.lever_rotation() == pytest.approx(fr.theta[k], abs=1e-12)
