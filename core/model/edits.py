@@ -9,6 +9,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any, Callable
 
+from ..errors import EditError
 from .linkage import Linkage, XYTuple
 from .scene import Scene
 
@@ -42,7 +43,7 @@ class AddElement(Edit):
 
     def apply_to(self, scene: Scene) -> tuple[Scene, Edit]:
         if self.element.id in scene.ids:
-            raise ValueError(f"an element with id {self.element.id!r} exists already")
+            raise EditError(f"an element with id {self.element.id!r} exists already")
         return scene.with_element(self.element, self.index), RemoveElement(self.element.id, self.label)
 
 

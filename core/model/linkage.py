@@ -9,6 +9,8 @@ import math
 from dataclasses import dataclass, field, replace
 from enum import Enum
 
+from ..errors import UnknownIdError
+
 XYTuple = tuple[float, float]
 
 
@@ -90,13 +92,13 @@ class Linkage:
         for j in self.joints:
             if j.id == joint_id:
                 return j
-        raise KeyError(f"linkage {self.id!r} has no joint {joint_id!r}")
+        raise UnknownIdError(f"linkage {self.id!r} has no joint {joint_id!r}")
 
     def link(self, link_id: str) -> Link:
         for k in self.links:
             if k.id == link_id:
                 return k
-        raise KeyError(f"linkage {self.id!r} has no link {link_id!r}")
+        raise UnknownIdError(f"linkage {self.id!r} has no link {link_id!r}")
 
     def links_of(self, joint_id: str) -> tuple[str, ...]:
         """Ids of the links carrying ``joint_id``, in file order."""

@@ -10,6 +10,8 @@ from dataclasses import dataclass, replace
 from types import ModuleType
 from typing import Any, Protocol
 
+from ..errors import UnknownIdError
+
 FORMAT = "mechsketch.scene"
 SCHEMA_VERSION = 1
 
@@ -49,11 +51,15 @@ class Scene:
     elements: tuple[Any, ...] = ()
 
     def element(self, element_id: str) -> Any:
+        """The element with id ``element_id``; :class:`UnknownIdError` (a KeyError) names the known ids."""
         for e in self.elements:
             if e.id == element_id:
                 return e
+        raise self._unknown(element_id)
+
+    def _unknown(self, element_id: str) -> UnknownIdError:
         known = ", ".join(repr(e.id) for e in self.elements) or "none"
-        raise KeyError(f"scene has no element {element_id!r} (elements: {known})")
+        return UnknownIdError(f"scene has no element {element_id!r} (elements: {known})")
 
     @property
     def ids(self) -> tuple[str, ...]:
@@ -72,7 +78,10 @@ class Scene:
         return replace(self, elements=tuple(e for e in self.elements if e.id != element_id))
 
     def index_of(self, element_id: str) -> int:
-        return self.ids.index(element_id)
+        ids = self.ids
+        if element_id not in ids:
+            raise self._unknown(element_id)
+        return ids.index(element_id)
 
     def to_dict(self) -> dict[str, Any]:
         return {"format": FORMAT, "schema_version": SCHEMA_VERSION, "units": "mm",
