@@ -8,8 +8,7 @@ command. Signals are past tense and fire once the document is consistent:
 - ``changed(Change)`` after every edit, undo, redo and drag-preview move: which elements changed
   (added, removed, modified) and whether it is a preview. The changed elements are solved before
   the signal (the rest keep their cached results), so a drag re-solves only the element it moves,
-  and only the groups that depend on it; a linkage's diagnostics are computed on a final change,
-  not per preview move;
+  and only the groups that depend on it (the canvas then asks for the diagnostics it marks);
 - ``documentReplaced()`` after New, Open or a restore (then ``changed`` follows with every id).
 """
 from __future__ import annotations

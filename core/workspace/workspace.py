@@ -116,6 +116,7 @@ class Workspace:
         self._plans: OrderedDict[Linkage, Plan] = OrderedDict()
         self._preview_base: Scene | None = None
         self._pending: dict[str, ElementChange] = {}
+        self._unkept: set[str] = set()   # ids whose current result is a preview's (not kept by value)
         self.stats: Counter[str] = Counter()
 
     @classmethod
@@ -245,9 +246,18 @@ class Workspace:
         el = self.element(element_id)
         hit = self._current.get(element_id)
         if hit is not None and hit[0] is el:
+            if element_id in self._unkept and not self.previewing:   # a preview that became final
+                self._unkept.discard(element_id)
+                self._store(self._by_value, (el, self._samples_for(el)), hit[1])
             return hit[1]
-        res = self.result_of(el, previous=hit)
+        # drag previews are not kept by value: a long drag would push out what undo needs
+        keep = not self.previewing
+        res = self.result_of(el, previous=hit, keep=keep)
         self._current[element_id] = (el, res)
+        if keep:
+            self._unkept.discard(element_id)
+        else:
+            self._unkept.add(element_id)
         return res
 
     def results(self) -> dict[str, ElementResult]:
@@ -259,11 +269,11 @@ class Workspace:
                 out[el.id] = res
         return out
 
-    def result_of(self, element: Any, previous: tuple[Any, ElementResult | None] | None = None
-                  ) -> ElementResult | None:
+    def result_of(self, element: Any, previous: tuple[Any, ElementResult | None] | None = None,
+                  keep: bool = True) -> ElementResult | None:
         """The result of ``element`` (in the scene or not: a candidate an edit would create),
-        cached by value. ``previous`` (element, result) of the same id lets a linkage whose
-        joints moved be re-swept from the groups the move touched."""
+        cached by value (unless ``keep`` is False). ``previous`` (element, result) of the same id
+        lets a linkage whose joints moved be re-swept from the groups the move touched."""
         samples = self._samples_for(element)
         key = (element, samples)
         try:
@@ -274,7 +284,7 @@ class Workspace:
             return solve_element(element, samples)
         res = None
         if isinstance(element, Linkage):
-            res = self._incremental(element, samples, previous)
+            res = self._incremental(element, samples, previous, keep)
             if res is None:
                 plan = self._plan(element)
                 res = solve_linkage(element, samples, plan) if plan is not None else solve_linkage(element, samples)
@@ -282,11 +292,13 @@ class Workspace:
             res = solve_element(element, samples)
         if res is not None:
             self.stats[f"solve:{res.kind}"] += 1
-        self._store(self._by_value, key, res)
+        if keep:
+            self._store(self._by_value, key, res)
         return res
 
     def _incremental(self, element: Linkage, samples: int | None,
-                     previous: tuple[Any, ElementResult | None] | None) -> LinkageResult | None:
+                     previous: tuple[Any, ElementResult | None] | None, keep: bool = True
+                     ) -> LinkageResult | None:
         """Re-sweep from ``previous`` when only drawn positions changed; None otherwise."""
         if previous is None or not isinstance(previous[1], LinkageResult):
             return None
@@ -304,7 +316,8 @@ class Workspace:
         if sol is None:
             return None
         self.stats["incremental"] += 1
-        self._store(self._plans, element, plan)
+        if keep:
+            self._store(self._plans, element, plan)
         return LinkageResult(element, plan, sol, seconds=sol.elapsed, incremental=True)
 
     def _plan(self, element: Linkage) -> Plan | None:

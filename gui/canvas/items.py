@@ -111,6 +111,9 @@ class _Item(QGraphicsItem):
         self._px = 0.5
         self._core = QRectF()
         self._rect = QRectF()
+        # an item that did not change is blitted from a pixmap when the viewport repaints (a drag
+        # of one linkage does not repaint the others' paths); a change re-renders it once
+        self.setCacheMode(QGraphicsItem.CacheMode.DeviceCoordinateCache)
 
     def set_px(self, px: float) -> None:
         """Tell the item the current millimetres per pixel (for its bounding box only)."""

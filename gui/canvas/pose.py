@@ -62,6 +62,7 @@ class SolutionArrays:
 
     def __init__(self, linkage: Linkage, sol: Solution, dead_inputs: Iterable[float] = ()) -> None:
         self.solution = sol
+        self.diagnostics = None   # the diagnostics the dead samples came from (None: not yet)
         self.n = len(sol)
         self.valid = np.asarray(sol.valid, dtype=bool)
         self.pos: dict[str, np.ndarray] = {j.id: sol.position(j.id) for j in linkage.joints}
@@ -180,9 +181,11 @@ class PoseCache:
             self._arrays.pop(linkage.id, None)
             return None
         cached = self._arrays.get(linkage.id)
-        if cached is None or cached.solution is not result.solution:
-            dead = [d.input for d in result.diagnostics.dead_points] if result.diagnostics else []
+        diag = result.diagnostics
+        if cached is None or cached.solution is not result.solution or cached.diagnostics is not diag:
+            dead = [d.input for d in diag.dead_points] if diag is not None else []
             cached = SolutionArrays(linkage, result.solution, dead)
+            cached.diagnostics = diag
             self._arrays[linkage.id] = cached
         return cached
 

@@ -75,6 +75,12 @@ def default_traced(linkage: Linkage) -> set[str]:
     return out
 
 
+def _same_drawing(a: tuple, b: tuple) -> bool:
+    """The items drawn for (linkage, arrays, index, traced, px, note) ``a`` also show ``b``:
+    the same linkage record and solution arrays (by identity), frame, traced joints, scale."""
+    return a[0] is b[0] and a[1] is b[1] and a[2:] == b[2:]
+
+
 class _ElementItems:
     """The few graphics items of one linkage."""
 
@@ -84,6 +90,8 @@ class _ElementItems:
         self.dead = DeadPointItem()
         for it in (self.trace, self.dead, self.linkage):
             scene.addItem(it)
+        self.drawn: tuple | None = None   # what the items show: see _same_drawing
+
 
     def all(self) -> tuple:
         return (self.linkage, self.trace, self.dead)
@@ -289,10 +297,15 @@ class CanvasView(QGraphicsView):
             if items is None:
                 items = self._items[pose.element] = _ElementItems(self._scene, pose)
                 items.linkage.show_labels = self._labels
+            traced = tuple(self.traced_joints(pose.linkage))
+            drawn = (pose.linkage, pose.arrays, pose.index, traced, px, pose.error)
+            if items.drawn is not None and _same_drawing(items.drawn, drawn):
+                continue   # an element the change did not touch: its items stay as they are
+            items.drawn = drawn
             for it in items.all():
                 it.set_px(px)
             items.linkage.set_pose(pose)
-            items.trace.set_data(pose, self.traced_joints(pose.linkage))
+            items.trace.set_data(pose, list(traced))
             items.dead.set_data(pose, ctl.result(pose.element))
         self._highlight()
         if self._fit_pending:
