@@ -74,7 +74,7 @@ def find_branch_points(plan: "Plan", steps, known: dict[str, np.ndarray]) -> dic
         good = ok & np.roll(ok, 1) & np.roll(ok, -1)
         cand = np.flatnonzero(good & (gap <= np.roll(gap, 1)) & (gap <= np.roll(gap, -1))
                               & (gap < CANDIDATE * step.scale))
-        thr = TOUCH_REL * (step.scale + plan.coord_scale)
+        thr = TOUCH_REL * (step.scale + step.coord)
 
         def margin(d: float) -> float:
             o = plan.run_steps(np.array([plan.theta0 + sg * d]), 0, idx, known)[name]

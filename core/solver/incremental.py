@@ -6,9 +6,10 @@ before: their link states, outputs and branch points are reused from the previou
 only the *dirty* groups — those with a moved joint, and everything downstream of them — run again.
 
 The result is the solution a full :meth:`~mechsketch.core.solver.plan.Plan.evaluate` of the new
-plan would give, bit for bit, or ``None`` when the shortcut does not apply (the topology, the
-driver or the coordinate scale that sets the rounding tolerances changed; the old solution was
-partial). The caller then solves in full.
+plan would give, bit for bit, or ``None`` when the shortcut does not apply (the topology or the
+driver changed; the old solution was partial). The caller then solves in full. A group whose
+rounding tolerance changed (it follows the coordinates of the group and of the links it hangs on)
+runs again like a moved one.
 """
 from __future__ import annotations
 
@@ -40,14 +41,16 @@ def moved_joints(old: Linkage, new: Linkage) -> frozenset[str] | None:
     return frozenset(a.id for a, b in zip(old.joints, new.joints) if a != b)
 
 
-def dirty_steps(plan: Plan, moved: Iterable[str]) -> set[int]:
-    """Indices of the steps of ``plan`` that use a joint of ``moved`` or depend on such a step."""
+def dirty_steps(plan: Plan, moved: Iterable[str], extra: Iterable[int] = ()) -> set[int]:
+    """Indices of the steps of ``plan`` that use a joint of ``moved`` (or are in ``extra``) and of
+    the steps that depend on those."""
     moved = set(moved)
+    extra = set(extra)
     dirty: set[int] = set()
     changed_links: set[str] = set()
     for k, step in enumerate(plan.steps):
         g = step.group
-        if moved.intersection(g.joints) or changed_links.intersection(step.needs):
+        if k in extra or moved.intersection(g.joints) or changed_links.intersection(step.needs):
             dirty.add(k)
             changed_links.update((g.link_i, g.link_j))
     return dirty
@@ -63,10 +66,14 @@ def resweep(old: Solution, plan: Plan, moved: Iterable[str]) -> Solution | None:
     """
     before = old.plan
     if (topology_key(before.linkage) != topology_key(plan.linkage) or len(old.groups) != len(plan.steps)
-            or before.theta0 != plan.theta0 or before.pivot != plan.pivot
-            or before.coord_scale != plan.coord_scale or before.omega != plan.omega):
+            or before.theta0 != plan.theta0 or before.pivot != plan.pivot or before.omega != plan.omega):
         return None
     dirty = dirty_steps(plan, moved)
+    # a group's rounding tolerance follows the coordinates of its joints and of the links it hangs
+    # on: a clean group whose tolerance changed must run again too (and everything after it)
+    tol_changed = {k for k, (a, b) in enumerate(zip(before.steps, plan.steps)) if a.coord != b.coord}
+    if tol_changed - dirty:
+        dirty = dirty_steps(plan, moved, extra=tol_changed)
     # branch points of the clean groups are those of the old plan (same inputs all the way up)
     clean_names = {plan.steps[k].group.name for k in range(len(plan.steps)) if k not in dirty}
     old_branches = before._branches or {}

@@ -35,6 +35,7 @@ class Step:
     needs: tuple[str, str]
     run: Callable[[dict, int, "np.ndarray | None"], K.DyadOut]
     scale: float = 1.0   # length scale of the group (mm), for branch-point tolerances
+    coord: float = 0.0   # largest drawn coordinate magnitude of the group and its known links, mm
 
 
 @dataclass
@@ -176,11 +177,16 @@ def _axis(linkage: Linkage, jid: str) -> tuple[complex, complex]:
 
 def _compile_step(linkage: Linkage, g: Group) -> Step:
     at = {j.id: _c(j.at) for j in linkage.joints}
-    # rounding tolerance of an assembly margin (mm): scale of the group plus of the coordinates
-    coord = max((abs(p) for p in at.values()), default=0.0)
+    ki, kj = g.known_i, g.known_j
+    # rounding tolerance of an assembly margin (mm): scale of the group plus of the coordinates it
+    # computes with (its joints and those of the links it hangs on; not the whole linkage's, so
+    # that moving a joint elsewhere does not change this group's results)
+    near = set(g.joints) | set(linkage.link(ki).joints) | set(linkage.link(kj).joints)
+    coord = max((abs(at[j]) for j in near), default=0.0)
+
     def touch_tol(size: float) -> float:
         return TOUCH_REL * (size + coord)
-    ki, kj = g.known_i, g.known_j
+
     scale = 1.0
     if g.kind is GroupKind.RRR:
         m0, h0, l0 = at[g.outer_i], at[g.outer_j], at[g.inner]
@@ -209,7 +215,7 @@ def _compile_step(linkage: Linkage, g: Group) -> Step:
         _, ui0 = _axis(linkage, g.inner)
         s2, u2 = _axis(linkage, g.outer_j)
         run = lambda s, o, f: K.rpp(s[ki], m0, ui0, s[kj], s2, u2, o)  # noqa: E731
-    return Step(g, (ki, kj), run, max(scale, 1e-300))
+    return Step(g, (ki, kj), run, max(scale, 1e-300), coord)
 
 
 def _check_lengths(linkage: Linkage) -> None:
