@@ -394,12 +394,13 @@ class TraceItem(_Item):
     def _circle(self, pose: ElementPose, arrays: SolutionArrays, step: float) -> None:
         lk = pose.linkage
         drv = lk.driver
-        try:
-            tip = next(j for j in lk.link(drv.link).joints if j != drv.pivot)
-            c = complex(*lk.joint(drv.pivot).at)
-            r = abs(complex(*lk.joint(tip).at) - c)
-        except (KeyError, StopIteration):
+        if not lk.has_driver or drv.pivot not in lk.joint_ids:
             return
+        tip = next((j for j in lk.link(drv.link).joints if j != drv.pivot), None)
+        if tip is None:
+            return
+        c = complex(*lk.joint(drv.pivot).at)
+        r = abs(complex(*lk.joint(tip).at) - c)
         th = arrays.solution.input
         xy = np.column_stack([c.real + r * np.cos(th), c.imag + r * np.sin(th)])
         valid = arrays.valid

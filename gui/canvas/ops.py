@@ -78,8 +78,8 @@ def structure_error(linkage: Linkage) -> str | None:
     """The message of compiling ``linkage`` (None if it compiles)."""
     try:
         compile_plan(linkage)
-    except (MechsketchError, KeyError, ValueError, StopIteration, ZeroDivisionError) as exc:
-        return exc.args[0] if isinstance(exc, KeyError) and exc.args else str(exc)
+    except MechsketchError as exc:
+        return str(exc)
     return None
 
 

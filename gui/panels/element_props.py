@@ -13,7 +13,7 @@ from typing import Any, Callable
 
 from PySide6.QtWidgets import QComboBox
 
-from mechsketch.core import ReplaceElement
+from mechsketch.core import EditError, MechsketchError, ReplaceElement
 
 from mechsketch.core.workspace import rebuilt
 
@@ -21,25 +21,25 @@ from mechsketch.core.workspace import rebuilt
 def push_changes(controller, element_id: str, changes: dict[str, Any], label: str) -> bool:
     """Replace element ``element_id`` by its copy with ``changes`` (dotted keys) as one undo step.
 
-    Raises ``ValueError`` with the core's message when the new values are refused (the document
-    is unchanged); returns False if the controller refused the command itself.
+    Raises :class:`EditError` (a ValueError) with the core's message when the new values are
+    refused (the document is unchanged); returns False if the controller refused the command.
     """
     old = controller.scene.element(element_id)
     new, problem = rebuilt(old, changes)
     if problem is not None:
-        raise ValueError(problem)
+        raise EditError(problem)
     if new == old:
         return False
     error = controller.check_element(new)
     if error is not None:
-        raise ValueError(error)
+        raise EditError(error)
     return controller.push(ReplaceElement(new, label), label)
 
 
 def whole_number(value: float, what: str) -> int:
-    """``value`` as an int, or ValueError naming ``what`` if it is not a whole number."""
+    """``value`` as an int, or EditError (a ValueError) naming ``what`` if it is not whole."""
     if value != int(value):
-        raise ValueError(f"{what} must be a whole number, got {value:g}")
+        raise EditError(f"{what} must be a whole number, got {value:g}")
     return int(value)
 
 
@@ -69,7 +69,7 @@ def combo_field(panel, name: str, options: list[tuple[str, Any]], read: Callable
         try:
             if value != read():
                 write(value)
-        except (KeyError, ValueError) as exc:
+        except MechsketchError as exc:
             panel.controller.message.emit(f"{name}: {exc}")
         show()
 

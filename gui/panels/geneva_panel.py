@@ -13,6 +13,7 @@ import math
 
 from PySide6.QtWidgets import QFormLayout, QGroupBox, QLabel
 
+from mechsketch.core.errors import EditError
 from mechsketch.core.model.geneva import Geneva
 
 from mechsketch.core.workspace import GenevaResult
@@ -67,7 +68,7 @@ def geneva_boxes(panel, element_id: str) -> list[QGroupBox]:
 
     def write_speed(v: float) -> None:
         if not v > 0:
-            raise ValueError("the speed must be positive (choose the turning sense below)")
+            raise EditError("the speed must be positive (choose the turning sense below)")
         push({"speed_rpm": math.copysign(v, el().speed_rpm)}, "set speed")
     speed = panel.number_field("speed_rpm", lambda: abs(el().speed_rpm), write_speed)
     speed.setToolTip("crank speed")

@@ -23,7 +23,7 @@ from pyqtgraph.exporters import ImageExporter
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QHBoxLayout, QLabel, QToolButton, QVBoxLayout, QWidget
 
-from mechsketch.core import ExportError
+from mechsketch.core import ExportError, MechsketchError
 from mechsketch.core.io.table import Table, write_csv
 from mechsketch.core.model.linkage import Linkage
 
@@ -130,7 +130,7 @@ def plot_data(controller: SceneController) -> PlotData:
                   Series("velocity", f"{ident}.ω", "rad/s", sol.omega(ident)),
                   Series("acceleration", f"{ident}.ε", "rad/s²", sol.alpha(ident))]
             data.labels.update(position="angle (°)", velocity="ω (rad/s)", acceleration="ε (rad/s²)")
-    except (KeyError, ValueError) as exc:
+    except MechsketchError as exc:
         data.title += f" — {exc}"
     for g in sol.groups:
         if g.kind == "RRR":

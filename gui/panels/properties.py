@@ -18,7 +18,7 @@ from PySide6.QtCore import Qt
 from PySide6.QtWidgets import (QComboBox, QFormLayout, QFrame, QGroupBox, QHBoxLayout, QLabel, QLineEdit,
                                QScrollArea, QToolButton, QVBoxLayout, QWidget)
 
-from mechsketch.core import MechsketchError, MoveJoint, ReplaceElement
+from mechsketch.core import EditError, MechsketchError, MoveJoint, ReplaceElement
 from mechsketch.core.model.linkage import Driver, JointKind, Linkage
 
 from ..controller import SceneController
@@ -41,7 +41,7 @@ def length_edit_moves(linkage: Linkage, link_id: str, length: float) -> tuple[st
     The joint on the ground (or the driver's pivot) stays; the other one moves along the link.
     """
     if not (length > 0.0 and math.isfinite(length)):
-        raise ValueError(f"a link length must be a positive number of mm, got {length}")
+        raise EditError(f"a link length must be a positive number of mm, got {length}")
     a, b = linkage.link(link_id).joints[:2]
     ground = set(linkage.link(linkage.ground).joints) | {linkage.driver.pivot}
     if b in ground and a not in ground:
@@ -102,10 +102,10 @@ class PropertiesPanel(QWidget):
     def selected(self) -> Selection | None:
         """The first selected joint or link that still exists."""
         for eid, kind, ident in self.controller.selection:
-            try:
-                el = self.controller.scene.element(eid)
-                (el.joint if kind == "joint" else el.link)(ident)
-            except (KeyError, AttributeError):
+            if eid not in self.controller.scene.ids:
+                continue
+            el = self.controller.scene.element(eid)
+            if not isinstance(el, Linkage) or ident not in (el.joint_ids if kind == "joint" else el.link_ids):
                 continue
             return eid, kind, ident
         return None
@@ -216,7 +216,7 @@ class PropertiesPanel(QWidget):
                 return
             try:
                 text = fmt(read())
-            except (KeyError, ValueError):
+            except MechsketchError:   # the joint or link went away: the panel rebuilds next
                 return
             shown["text"] = text
             edit.setText(text)
@@ -236,7 +236,7 @@ class PropertiesPanel(QWidget):
                 return
             try:
                 write(value)
-            except (MechsketchError, KeyError, ValueError) as exc:
+            except MechsketchError as exc:
                 self.controller.message.emit(f"{name}: {exc}")
                 edit.setText(shown["text"])
 
@@ -324,7 +324,7 @@ class PropertiesPanel(QWidget):
 
         def write_speed(v: float) -> None:
             if v <= 0:
-                raise ValueError("the speed must be positive (choose the direction below)")
+                raise EditError("the speed must be positive (choose the direction below)")
             d = self._lk(eid).driver
             sign = 1.0 if d.speed_rpm > 0 else -1.0
             self._push_driver(eid, replace(d, speed_rpm=sign * v), "set driver speed")
@@ -396,7 +396,7 @@ class PropertiesPanel(QWidget):
         """Flip ``group``'s assembly mode as one undo command; False (and a message) if refused."""
         try:
             edit = flip_edit(self._lk(eid), group)
-        except (MechsketchError, KeyError, ValueError) as exc:
+        except MechsketchError as exc:
             self.controller.message.emit(f"cannot flip {group}: {exc}")
             return False
         return self.controller.push(edit, f"flip {group}")
