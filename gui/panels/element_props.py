@@ -59,7 +59,7 @@ def combo_field(panel, name: str, options: list[tuple[str, Any]], read: Callable
         box.blockSignals(True)
         try:
             current = read()
-        except KeyError:
+        except MechsketchError:   # the element went away: the panel rebuilds next
             current = None
         box.setCurrentIndex(values.index(current) if current in values else -1)
         box.blockSignals(False)

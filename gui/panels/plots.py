@@ -79,10 +79,9 @@ class PlotData:
 def _target(controller: SceneController) -> tuple[Linkage, str, str] | None:
     """(linkage, "joint"|"link", id) to plot: the selection, else the last group's inner joint."""
     for eid, kind, ident in controller.selection:
-        try:
-            el = controller.scene.element(eid)
-        except KeyError:
+        if eid not in controller.scene.ids:
             continue
+        el = controller.scene.element(eid)
         if isinstance(el, Linkage) and ident in (el.joint_ids if kind == "joint" else el.link_ids):
             return el, kind, ident
     for lk in controller.linkages():

@@ -90,10 +90,7 @@ class PropertiesPanel(QWidget):
         """The linkage of the selection, else the scene's first linkage."""
         sel = self.controller.selection
         if sel:
-            try:
-                el = self.controller.scene.element(sel[0][0])
-            except KeyError:
-                el = None
+            el = self.controller.scene.element(sel[0][0]) if sel[0][0] in self.controller.scene.ids else None
             if isinstance(el, Linkage):
                 return el
         links = self.controller.linkages()
