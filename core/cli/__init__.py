@@ -1,7 +1,8 @@
 """Headless command line: ``mechsketch analyze|validate|export|synthesize|centrodes SCENE ...``.
 
-Every number the GUI shows can be reproduced here. Element types plug in through
-:data:`HANDLERS`: a module per type with the functions a command needs (see ``_call``).
+Every number the GUI shows can be reproduced here: both read their results from the same
+:class:`~mechsketch.core.workspace.Workspace`. Element types plug in through :data:`HANDLERS`: a
+module per type with the functions a command needs (see ``_handler``).
 Exit status: 0 ok, 1 a problem with the scene or the request (message on stderr), 2 usage.
 """
 from __future__ import annotations
@@ -11,14 +12,16 @@ import importlib
 import sys
 from typing import Any, Sequence
 
-from ..errors import MechsketchError
+from ..errors import MechsketchError, Problem, StructureError
 from ..io.scene_file import load_scene, validate_file
 from ..io.table import write_csv
-from ..solver.plan import compile_plan
+from ..model.linkage import Linkage
+from ..workspace import Workspace
 
-#: element type -> module implementing its commands. A module may define
-#: ``analyze(element, samples) -> Analysis``, ``export(element, path, tolerance) -> str``,
-#: ``synthesize(element) -> Analysis``, ``centrodes(element, link, relative_to, samples) -> Table``.
+#: element type -> module implementing its commands, each taking the workspace and the element id:
+#: ``analyze(ws, id) -> Analysis`` (samples: the workspace's override), ``export(ws, id, path,
+#: tolerance) -> str``, ``synthesize(ws, id) -> Analysis``, ``centrodes(ws, id, link,
+#: relative_to, samples) -> Table``.
 HANDLERS: dict[str, str] = {
     "linkage": "mechsketch.core.cli.linkage_cmds",
     "geneva": "mechsketch.core.cli.geneva_cmds",
@@ -97,16 +100,13 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
-def _structure_problems(scene) -> list:
+def _structure_problems(ws: Workspace) -> list[Problem]:
     """Linkages that load but cannot be solved (mobility, higher-class group, no driver yet)."""
-    from ..errors import Problem, StructureError
-    from ..model.linkage import Linkage
-
     out = []
-    for k, el in enumerate(scene.elements):
+    for k, el in enumerate(ws.scene.elements):
         if isinstance(el, Linkage):
             try:
-                compile_plan(el)
+                ws.plan(el.id)
             except StructureError as exc:
                 who = ", ".join(exc.joints) if exc.joints else None
                 out.append(Problem(f"$.elements[{k}]", str(exc) + (f" [joints {who}]" if who else ""), el.id))
@@ -121,27 +121,29 @@ def run(args: argparse.Namespace) -> int:
     if args.command == "validate":
         problems = validate_file(args.scene)
         if not problems:
-            problems = _structure_problems(load_scene(args.scene))
+            problems = _structure_problems(Workspace(load_scene(args.scene)))
         for prob in problems:
             print(prob)
         if not problems:
             print(f"{args.scene}: ok")
         return 0 if not problems else 1
-    scene = load_scene(args.scene)
+    ws = Workspace(load_scene(args.scene))
+    scene = ws.scene
     if args.command == "analyze":
         if args.samples is not None and not 2 <= args.samples <= MAX_SAMPLES:
             raise CliError(f"--samples must be from 2 to {MAX_SAMPLES:,}, got {args.samples:,}")
         el = _pick(scene, args.element, "analyze")
-        _emit(_handler(el, "analyze")(el, args.samples), args.csv, args.summary)
+        ws.samples = args.samples
+        _emit(_handler(el, "analyze")(ws, el.id), args.csv, args.summary)
     elif args.command == "export":
         el = _pick(scene, args.element, "export")
-        print(_handler(el, "export")(el, args.dxf, args.tolerance))
+        print(_handler(el, "export")(ws, el.id, args.dxf, args.tolerance))
     elif args.command == "synthesize":
         el = _pick(scene, args.element, "synthesize")
-        _emit(_handler(el, "synthesize")(el), args.csv, args.summary)
+        _emit(_handler(el, "synthesize")(ws, el.id), args.csv, args.summary)
     elif args.command == "centrodes":
         el = _pick(scene, args.element, "centrodes")
-        write_csv(_handler(el, "centrodes")(el, args.link, args.relative_to, args.samples), args.csv)
+        write_csv(_handler(el, "centrodes")(ws, el.id, args.link, args.relative_to, args.samples), args.csv)
     return 0
 
 

@@ -3,11 +3,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..analyses.linkage_report import linkage_summary
+from ..analyses.centrodes import linkage_centrodes
 from ..analyses.table import Table
 from ..model.linkage import Linkage
-from ..solver.diagnostics import diagnose
-from ..solver.plan import compile_plan
+from ..workspace import Workspace
 from . import Analysis
 
 
@@ -28,16 +27,19 @@ def analysis_table(linkage: Linkage, sol) -> Table:
     return Table.from_columns(cols, integer={"valid"})
 
 
-def analyze(linkage: Linkage, samples: int | None) -> Analysis:
-    """Solve one revolution at order 2; table per sample and the diagnostics summary."""
-    plan = compile_plan(linkage)
-    sol = plan.sweep(samples=samples or linkage.samples, order=2)
-    return Analysis(analysis_table(linkage, sol), linkage_summary(linkage, plan, diagnose(sol)))
+def analyze(ws: Workspace, element_id: str) -> Analysis:
+    """The workspace's solve of one revolution at order 2 (N: the workspace's sample override,
+    else the element's); the table per sample and the diagnostics summary. Raises the core's
+    error when the linkage cannot be solved."""
+    ws.plan(element_id)   # StructureError / GeometryError with the joints at fault
+    res = ws.result(element_id)
+    if res.solution is None:
+        raise res.exception
+    return Analysis(analysis_table(res.element, res.solution), res.summary())
 
 
-def centrodes(linkage: Linkage, link: str, relative_to: str | None, samples: int | None) -> Table:
+def centrodes(ws: Workspace, element_id: str, link: str, relative_to: str | None, samples: int | None
+              ) -> Table:
     """Instant centres of ``link`` (relative to the frame or ``relative_to``) as a CSV table."""
-    from ..analyses.centrodes import linkage_centrodes
-
-    sol = compile_plan(linkage).sweep(samples=samples or linkage.samples, order=1)
-    return linkage_centrodes(sol, linkage, link, relative_to).table()
+    sol = ws.solve(element_id, samples=samples, order=1)
+    return linkage_centrodes(sol, ws.element(element_id), link, relative_to).table()

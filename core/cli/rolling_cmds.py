@@ -7,20 +7,23 @@ from __future__ import annotations
 
 import os
 
-from ..analyses.rolling_report import summary
 from ..analyses.rolling_synthesis import synthesize as _synthesize
 from ..io.dxf_rolling import export_rolling
-from ..model.rolling_lever import RollingLever
+from ..workspace import Workspace
 from . import Analysis
 
 
-def synthesize(element: RollingLever) -> Analysis:
-    """Synthesise the element's profiles with its method and N; table and summary (with slip measures)."""
-    res = _synthesize(element, measures=True)
-    return Analysis(res.table(), summary(res))
+def synthesize(ws: Workspace, element_id: str) -> Analysis:
+    """The element's profiles synthesised with its method and N (the workspace's result, with the
+    slip measures): table and summary. Raises the core's error when the synthesis fails."""
+    res = ws.result(element_id)
+    if res.synthesis is None:
+        raise res.exception
+    return Analysis(res.synthesis.table(), res.summary())
 
 
-def export(element: RollingLever, path: str | os.PathLike, tolerance: float) -> str:
-    """Write the DXF (frame profile, lever outline, slider profile; mm); returns the report text."""
-    res = _synthesize(element, measures=False)
+def export(ws: Workspace, element_id: str, path: str | os.PathLike, tolerance: float) -> str:
+    """Write the DXF (frame profile, lever outline, slider profile; mm); returns the report text.
+    A synthesis without the slip measures is enough for the outlines."""
+    res = _synthesize(ws.element(element_id), measures=False)
     return export_rolling(res, path, tolerance).report()

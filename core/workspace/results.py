@@ -16,7 +16,8 @@ computed per animation frame:
   revolution from the folded dead centre when the element has a drive (``drive.frames(φ)``),
   else the stroke there and back with a cosine law (``pose(θ)``).
 
-Failures are data: a result with ``error`` set (the core's message), never an exception.
+Failures are data: a result with ``error`` set (the core's message) and ``exception`` (the error
+itself, which the CLI re-raises), never a raised exception.
 """
 from __future__ import annotations
 
@@ -67,6 +68,7 @@ class LinkageResult:
     plan: Plan | None = None
     solution: Solution | None = None
     error: str | None = None
+    exception: MechsketchError | None = field(default=None, repr=False)   # what ``error`` says
     seconds: float = 0.0
     incremental: bool = False
     _diagnostics: Diagnostics | None = field(default=None, repr=False)
@@ -121,7 +123,7 @@ def solve_linkage(element: Linkage, samples: int | None = None, plan: Plan | Non
         res.plan = plan if from_plan else compile_plan(element)
         res.solution = res.plan.sweep(samples=samples or element.samples, order=2)
     except MechsketchError as exc:
-        res.error = _message(exc)
+        res.error, res.exception = _message(exc), exc.with_traceback(None)
         res.solution = None
     res.seconds = time.perf_counter() - t0
     return res
@@ -146,6 +148,7 @@ class GenevaResult:
     crank_rotation: np.ndarray = field(default_factory=lambda: np.zeros(0))
     wheel_rotation: np.ndarray = field(default_factory=lambda: np.zeros(0))
     error: str | None = None
+    exception: MechsketchError | None = field(default=None, repr=False)   # what ``error`` says
     seconds: float = 0.0
     _summary: str | None = field(default=None, repr=False)
 
@@ -198,7 +201,7 @@ def solve_geneva(element: Geneva, samples: int | None = None) -> GenevaResult:
         res.kinematics = kinematics(element, n)
         res.contact = contact(element, n, element.model)
     except MechsketchError as exc:
-        res.error = _message(exc)
+        res.error, res.exception = _message(exc), exc.with_traceback(None)
         res.seconds = time.perf_counter() - t0
         return res
     direction = math.radians(element.wheel_direction_deg)
@@ -207,7 +210,7 @@ def solve_geneva(element: Geneva, samples: int | None = None) -> GenevaResult:
     try:
         res.geometry = geometry(element)
     except MechsketchError as exc:
-        res.error = f"cannot draw the drive: {_message(exc)}"
+        res.error, res.exception = f"cannot draw the drive: {_message(exc)}", exc.with_traceback(None)
     res.seconds = time.perf_counter() - t0
     return res
 
@@ -261,6 +264,7 @@ class RollingResult:
     slip_d: np.ndarray = field(default_factory=lambda: np.zeros(0))
     slip_e: np.ndarray = field(default_factory=lambda: np.zeros(0))
     error: str | None = None
+    exception: MechsketchError | None = field(default=None, repr=False)   # what ``error`` says
     seconds: float = 0.0
 
     kind = "rolling_lever"
@@ -345,7 +349,7 @@ def solve_rolling(element: RollingLever) -> RollingResult:
         out.frame_profile = _curve(res.frame_profile(), PROFILE_POINTS)
         out.slider_profile = _curve(res.slider_profile(), PROFILE_POINTS)
     except MechsketchError as exc:
-        out.error = _message(exc)
+        out.error, out.exception = _message(exc), exc.with_traceback(None)
         out.frames = None
         out.seconds = time.perf_counter() - t0
         return out
