@@ -1,13 +1,13 @@
-"""Small reversible edits of a scene, and the document that applies them.
+"""Small reversible edits of a scene.
 
-``inverse = doc.apply(edit)`` applies an edit and returns the edit that undoes it. The GUI's undo
-commands only wrap these. Listeners are told after the document is consistent again (past tense:
-``changed``) and never write back from inside the notification.
+``new_scene, inverse = edit.apply_to(scene)``: an edit returns the edit that undoes it. The
+workspace (:class:`mechsketch.core.workspace.Workspace`) applies them and tells its listeners;
+the GUI's undo commands only wrap them.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Callable
+from typing import Any
 
 from ..errors import EditError
 from .linkage import Linkage, XYTuple
@@ -76,28 +76,3 @@ class MoveJoints(Edit):
 def MoveJoint(element_id: str, joint_id: str, at: XYTuple) -> MoveJoints:
     """Move one joint (a convenience constructor of :class:`MoveJoints`)."""
     return MoveJoints(element_id, ((joint_id, (float(at[0]), float(at[1]))),))
-
-
-class Document:
-    """A mutable holder of the immutable scene; applies edits and tells listeners afterwards."""
-
-    def __init__(self, scene: Scene | None = None) -> None:
-        self.scene = scene if scene is not None else Scene()
-        self._listeners: list[Callable[[Scene], None]] = []
-
-    def subscribe(self, listener: Callable[[Scene], None]) -> None:
-        self._listeners.append(listener)
-
-    def apply(self, edit: Edit) -> Edit:
-        """Apply ``edit``; return its inverse. The scene is unchanged if the edit raises."""
-        new, inverse = edit.apply_to(self.scene)
-        self.scene = new
-        for listener in list(self._listeners):
-            listener(new)
-        return inverse
-
-    def reset(self, scene: Scene) -> None:
-        """Replace the whole document (open, new); not an undoable edit."""
-        self.scene = scene
-        for listener in list(self._listeners):
-            listener(scene)

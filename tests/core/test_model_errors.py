@@ -5,9 +5,10 @@ from __future__ import annotations
 
 import pytest
 
-from mechsketch.core import (AddElement, Document, EditError, MechsketchError, MoveJoint, RemoveElement,
+from mechsketch.core import (AddElement, EditError, MechsketchError, MoveJoint, RemoveElement,
                              UnknownIdError, load_scene)
 from mechsketch.resources import example_path
+from mechsketch.core.workspace import Workspace
 
 
 @pytest.fixture
@@ -34,7 +35,7 @@ def test_unknown_joint_link_and_element_are_unknown_id_errors(scene):
 
 
 def test_edits_raise_edit_error_or_unknown_id_and_leave_the_document(scene):
-    doc = Document(scene)
+    doc = Workspace(scene)
     with pytest.raises(EditError, match="^an element with id 'fourbar' exists already$") as info:
         doc.apply(AddElement(scene.element("fourbar")))
     assert isinstance(info.value, ValueError)

@@ -233,3 +233,20 @@ def test_incremental_and_full_solves_agree_bit_for_bit(joint, dx, dy):
         assert joint == "P0" and (dx, dy) != (0.0, 0.0)
         return
     assert_same_solution(sol, plan.sweep(order=2), new)
+
+
+def test_the_readme_python_api_example_runs_and_undo_solves_nothing(monkeypatch):
+    """The README's Python API block, run as written (from the repository root)."""
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[2]
+    text = (root / "README.md").read_text(encoding="utf-8")
+    block = text.split("## Python API", 1)[1].split("```python", 1)[1].split("```", 1)[0]
+    monkeypatch.chdir(root)
+    env: dict = {"angles": np.linspace(0.0, 1.0, 5)}
+    monkeypatch.setattr("builtins.print", lambda *a, **k: None)
+    exec(compile(block, "README.md", "exec"), env)
+    ws, link = env["ws"], env["link"]
+    assert env["sol"].position("E").shape == (3600, 2)
+    assert ws.element("sixbar").joint("C").at == link.joint("C").at   # the undo restored C
+    assert ws.stats["incremental"] >= 1
