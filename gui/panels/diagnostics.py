@@ -1,10 +1,10 @@
 """The diagnostics panel: for each linkage, mobility, the Assur groups found (kind, mode), reachable
 input ranges, dead points, transmission-angle range, and the solve's time and loop-closure error.
 
-The text comes from the core's :meth:`Diagnostics.lines` (the same as ``mechsketch analyze``), so
-every number here can be reproduced headless. A linkage that cannot be solved shows its error.
-A Geneva drive shows the summary of ``mechsketch analyze --summary``, a rolling lever that of
-``mechsketch synthesize --summary`` (the results' own summary methods), or the core's message.
+Each element shows its result's summary: the text of ``mechsketch analyze --summary`` for a
+linkage or a Geneva drive, of ``mechsketch synthesize --summary`` for a rolling lever (one text,
+in core/analyses, shared by CLI and GUI), so every number here can be reproduced headless. An
+element that cannot be solved shows the core's message.
 """
 from __future__ import annotations
 
@@ -29,15 +29,14 @@ def diagnostics_lines(controller: SceneController) -> list[tuple[str, str]]:
             out.extend(_element_lines(controller, el))
             continue
         res = controller.result(el.id)
-        out.append(("head", f"linkage {el.id}: {len(el.links)} links, {len(el.joints)} joints, "
-                            f"driver {el.driver.link} at {el.driver.speed_rpm:g} rpm"))
-        if res is None:
-            out.append(("error", "not solved yet"))
-        elif res.error is not None:
-            out.append(("error", f"cannot solve: {res.error}"))
-        elif res.diagnostics is not None:
-            out.extend(("", line) for line in res.diagnostics.lines())
-            out.append(("", f"solve + diagnostics in the app: {res.seconds * 1e3:.2f} ms"))
+        if res is None or res.solution is None:
+            out.append(("head", f"linkage {el.id}: {len(el.links)} links, {len(el.joints)} joints"))
+            out.append(("error", "not solved yet" if res is None else f"cannot solve: {res.error}"))
+            continue
+        head, *rest = res.summary().splitlines()   # the text of `mechsketch analyze --summary`
+        out.append(("head", head))
+        out.extend(("", line) for line in rest)
+        out.append(("", f"solve + diagnostics in the app: {res.seconds * 1e3:.2f} ms"))
     return out
 
 

@@ -10,7 +10,7 @@ from PySide6.QtCore import QPointF, Qt
 from PySide6.QtGui import QPainterPath
 
 from mechsketch import resources
-from mechsketch.core import load_scene
+from mechsketch.core import Scene, Workspace, load_scene
 from mechsketch.core.analyses.geneva_contact import contact
 from mechsketch.core.analyses.geneva_geometry import geometry
 from mechsketch.core.analyses.geneva_kinematics import kinematics
@@ -179,7 +179,7 @@ def test_diagnostics_show_the_analyze_summary(shell):
     parts, c, _ = _open(shell, "geneva_z6")
     el = c.scene.element("indexer")
     text = " ".join(parts.window.diagnostics.plain_text().split())
-    cli = geneva_cmds.analyze(el, None).summary
+    cli = geneva_cmds.analyze(Workspace(Scene((el,))), el.id).summary   # a workspace of its own
     for line in cli.splitlines():
         assert " ".join(line.split()) in text
 

@@ -206,6 +206,17 @@ def test_diagnostics_show_groups_ranges_dead_points_and_the_solve(shell):
                      "dead point", "transmission angle RRR(coupler,output)", "poses in",
                      "max loop-closure residual"):
         assert expected in text
+    # the same text as `mechsketch analyze --summary` (one report, in core/analyses), timings aside
+    from mechsketch.core.cli import main
+    import contextlib
+    import io
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        assert main(["analyze", str(resources.example_path("double_rocker")), "--summary"]) == 0
+    flat = " ".join(text.split())
+    for line in out.getvalue().splitlines():
+        if not line.startswith("solve:"):
+            assert " ".join(line.split()) in flat, line
 
 
 def test_an_impossible_drag_is_shown_not_fatal(shell):

@@ -10,7 +10,7 @@ import pytest
 from PySide6.QtCore import QPointF
 from PySide6.QtGui import QPainterPath
 
-from mechsketch.core import ReplaceElement
+from mechsketch.core import ReplaceElement, Workspace
 from mechsketch.core.analyses.rolling_synthesis import synthesize
 from mechsketch.core.cli import rolling_cmds
 from mechsketch.core.model.rolling_lever import RollingLever
@@ -131,7 +131,7 @@ def test_an_invalid_edit_is_refused_with_the_cores_message(shell, qtbot, field, 
 def test_diagnostics_show_the_synthesize_summary(shell):
     parts, c, _ = _open(shell, "rolling_lever_inclined")
     text = " ".join(parts.window.diagnostics.plain_text().split())
-    cli = rolling_cmds.synthesize(c.scene.element("inclined")).summary
+    cli = rolling_cmds.synthesize(Workspace(c.scene), "inclined").summary   # a workspace of its own
     timed = ("time:", "(measures computed in")
     for line in cli.splitlines():
         if not line.strip().startswith(timed):
