@@ -230,11 +230,12 @@ def _check_lengths(linkage: Linkage) -> None:
                                         f"same point ({pts[a][1].real:g}, {pts[a][1].imag:g}) mm")
 
 
-def compile_plan(linkage: Linkage) -> Plan:
+def compile_plan(linkage: Linkage, groups: list[Group] | None = None) -> Plan:
     """Decompose ``linkage`` (raises StructureError, or GeometryError for a link with two joints
-    at one point) and compile its kernels, once."""
+    at one point) and compile its kernels, once. ``groups``: the decomposition of a linkage of the
+    same topology (see :func:`mechsketch.core.solver.incremental.topology_key`), reused as is."""
     _check_lengths(linkage)
-    groups = decompose(linkage)
+    groups = decompose(linkage) if groups is None else list(groups)
     steps = [_compile_step(linkage, g) for g in groups]
     drv = linkage.driver
     pivot = _c(linkage.joint(drv.pivot).at)

@@ -31,7 +31,7 @@ from ..io.scene_file import load_scene
 from ..model.edits import Edit
 from ..model.linkage import Linkage
 from ..model.scene import Scene
-from ..solver.incremental import moved_joints, resweep
+from ..solver.incremental import moved_joints, resweep, topology_key
 from ..solver.plan import Plan, Solution, compile_plan
 from .facade import ElementView
 from .results import ElementResult, LinkageResult, solve_element, solve_linkage
@@ -114,6 +114,7 @@ class Workspace:
         self._by_value: OrderedDict[Hashable, ElementResult | None] = OrderedDict()
         self._requests: OrderedDict[Hashable, Solution] = OrderedDict()
         self._plans: OrderedDict[Linkage, Plan] = OrderedDict()
+        self._structures: OrderedDict[tuple, list] = OrderedDict()   # topology -> Assur groups
         self._preview_base: Scene | None = None
         self._pending: dict[str, ElementChange] = {}
         self._unkept: set[str] = set()   # ids whose current result is a preview's (not kept by value)
@@ -309,7 +310,7 @@ class Workspace:
         if moved is None or len(old.solution) != (samples or element.samples):
             return None
         try:
-            plan = compile_plan(element)
+            plan = self._compile(element)
         except MechsketchError:
             return None  # the full solve reports the message
         sol = resweep(old.solution, plan, moved)
@@ -326,17 +327,30 @@ class Workspace:
             self._plans.move_to_end(element)
             return self._plans[element]
         try:
-            plan = compile_plan(element)
+            plan = self._compile(element)
         except MechsketchError:
             return None
         self._store(self._plans, element, plan)
+        return plan
+
+    def _compile(self, element: Linkage) -> Plan:
+        """``compile_plan`` with the structural decomposition cached by topology: a drag or a
+        dimension edit recompiles the kernels' drawn geometry, never the Assur groups."""
+        key = topology_key(element)
+        groups = self._structures.get(key)
+        if groups is not None:
+            self._structures.move_to_end(key)
+            return compile_plan(element, groups)
+        plan = compile_plan(element)
+        self.stats["decompose"] += 1
+        self._store(self._structures, key, plan.groups)
         return plan
 
     def plan(self, element_id: str) -> Plan:
         """The compiled plan of a linkage (raises StructureError / GeometryError with the reason)."""
         el = self.element(element_id)
         plan = self._plan(el)
-        return plan if plan is not None else compile_plan(el)
+        return plan if plan is not None else self._compile(el)
 
     def solve(self, element_id: str, samples: int | None = None, order: int = 2,
               joints: Iterable[str] | None = None) -> Solution:

@@ -250,3 +250,17 @@ def test_the_readme_python_api_example_runs_and_undo_solves_nothing(monkeypatch)
     assert env["sol"].position("E").shape == (3600, 2)
     assert ws.element("sixbar").joint("C").at == link.joint("C").at   # the undo restored C
     assert ws.stats["incremental"] >= 1
+
+
+def test_a_drag_decomposes_the_linkage_once_then_reuses_its_groups():
+    ws = Workspace(Scene((dyad_chain(6),)))
+    ws.result("chain")
+    ws.begin_preview()
+    for x in (352.0, 353.0, 354.0):
+        ws.preview(MoveJoint("chain", "P4", (x, 80.0)))
+        assert ws.result("chain").ok
+    assert ws.stats["decompose"] == 1 and ws.stats["incremental"] == 3
+    ws.end_preview()
+    ws.apply(AddElement(fourbar()))
+    ws.result(fourbar().id)
+    assert ws.stats["decompose"] == 2
