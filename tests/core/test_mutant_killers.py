@@ -170,9 +170,9 @@ def _actual_error(ref: MR.LeverRef, res, exact_at=()):
     return float(err.max()), float(np.abs(res.alpha - a).max()), float(np.abs(res.S5 - s).max())
 
 
-@pytest.mark.parametrize("start,end", [(-0.55, -0.54), (-0.5, -0.45), (1.2, 1.25)])
+@pytest.mark.parametrize("start,end,strict", [(-0.55, -0.54, False), (-0.5, -0.45, True), (1.2, 1.25, True)])
 @pytest.mark.parametrize("tol", [1e-8, 1e-9])
-def test_error_estimate_counts_the_lead_in(start, end, tol):
+def test_error_estimate_counts_the_lead_in(start, end, strict, tol):
     """The stroke does not start at the drawn pose: θ = 0 → start is integrated first and its
     error is carried into the whole stroke. The reported estimate (sum of local errors of P and Q)
     must account for the actual error, measured against DOP853 at rtol 1e-13 (its own error is
@@ -192,7 +192,7 @@ def test_error_estimate_counts_the_lead_in(start, end, tol):
     assert res.theta[0] == start and res.theta[-1] == end
     assert actual <= tol                                     # measured 0.37–0.70 × tol
     assert actual <= 1.25 * res.error_mm
-    if end != -0.54:
+    if strict:
         assert actual <= res.error_mm
     assert res.error_mm <= 2.0 * tol                         # lead-in and stroke, each ≤ tol
     # the lead-in alone carries most of the error of this short stroke, and it is counted
