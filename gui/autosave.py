@@ -1,10 +1,14 @@
 """Crash recovery: the unsaved scene is written every minute to a per-user recovery folder.
 
-Each running app owns ``recovery-<pid>.json`` (the scene, written atomically) and
-``recovery-<pid>.meta.json`` (where it came from, when). Both are removed when the document is
-saved or reset clean, and on a clean exit; so a recovery file whose process is gone means that
-app crashed, and the next start offers it back. The folder is ``$MECHSKETCH_STATE_DIR`` if set,
-else the platform's per-user state folder.
+Each running app owns ``recovery-<pid>.json`` (the scene, written atomically),
+``recovery-<pid>.meta.json`` (where it came from, when) and ``recovery-<pid>.lock``, which it
+holds ``flock``-ed while it runs. All are removed when the document is saved or reset clean, and
+on a clean exit; so a recovery file whose lock is free means that app crashed (the kernel drops
+a dead process's locks), and the next start offers it back. The owner is identified by its lock,
+not by its PID, which another process may have been given since; only where there is no lock
+file (Windows, files of older versions) does the PID decide. The folder is
+``$MECHSKETCH_STATE_DIR`` if set, else the platform's per-user state folder; each start removes
+the temporaries a killed autosave left there.
 """
 from __future__ import annotations
 
@@ -17,7 +21,13 @@ from pathlib import Path
 
 from PySide6.QtCore import QObject, QTimer, Signal
 
+try:
+    import fcntl
+except ImportError:  # pragma: no cover - Windows: the PID decides
+    fcntl = None  # type: ignore[assignment]
+
 from mechsketch.core import ExportError, MechsketchError, Scene, SceneFormatError, load_scene
+from mechsketch.core.io.atomic import remove_orphans
 from mechsketch.core.io.scene_file import atomic_write_text, dumps_scene
 
 from .controller import SceneController
@@ -56,6 +66,26 @@ def _alive(pid: int) -> bool:
     return True
 
 
+def _lock_held(lock: Path) -> bool | None:
+    """Whether a live process holds ``lock`` (True), nobody does (False), or we cannot tell
+    (None: no lock file, or no ``flock`` here)."""
+    if fcntl is None:  # pragma: no cover - Windows
+        return None
+    try:
+        fd = os.open(lock, os.O_RDONLY | getattr(os, "O_CLOEXEC", 0))
+    except OSError:
+        return None
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        return True
+    except OSError:
+        return None
+    finally:
+        os.close(fd)              # also releases the lock if we got it
+    return False
+
+
 @dataclass(frozen=True)
 class Recovery:
     """A recovery file left by an app that did not exit cleanly."""
@@ -64,6 +94,7 @@ class Recovery:
     meta_path: Path
     original: str | None      # the file the scene was opened from (None: never saved)
     saved_at: float           # time.time() of the autosave
+    lock_path: Path | None = None   # the dead owner's lock file, removed with the rest
 
     def describe(self) -> str:
         when = time.strftime("%Y-%m-%d %H:%M", time.localtime(self.saved_at))
@@ -71,7 +102,9 @@ class Recovery:
         return f"{what}, autosaved {when}"
 
     def discard(self) -> None:
-        for p in (self.scene_path, self.meta_path):
+        for p in (self.scene_path, self.meta_path, self.lock_path):
+            if p is None:
+                continue
             try:
                 p.unlink()
             except FileNotFoundError:
@@ -91,6 +124,8 @@ class Autosave(QObject):
         pid = os.getpid()
         self.scene_file = self.folder / f"recovery-{pid}.json"
         self.meta_file = self.folder / f"recovery-{pid}.meta.json"
+        self.lock_file = self.folder / f"recovery-{pid}.lock"
+        self._lock_fd: int | None = None
         self.timer = QTimer(self)
         self.timer.setObjectName("autosave")
         self.timer.setInterval(interval_ms)
@@ -98,7 +133,32 @@ class Autosave(QObject):
         controller.pathChanged.connect(self._on_path_changed)
 
     def start(self) -> None:
+        """Remove temporaries a killed autosave left in the folder, then start the timer."""
+        remove_orphans(self.folder)
         self.timer.start()
+
+    def _hold_lock(self) -> None:
+        """Create and ``flock`` this run's lock file (kept until :meth:`remove`)."""
+        if self._lock_fd is not None or fcntl is None:
+            return
+        fd = os.open(self.lock_file, os.O_RDWR | os.O_CREAT | getattr(os, "O_CLOEXEC", 0), 0o600)
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            os.close(fd)
+            raise
+        self._lock_fd = fd
+
+    def _release_lock(self) -> None:
+        if self._lock_fd is None:
+            return
+        try:
+            self.lock_file.unlink()   # while still held: no one can take a stale one for dead
+        except FileNotFoundError:
+            pass
+        finally:
+            os.close(self._lock_fd)
+            self._lock_fd = None
 
     def stop(self) -> None:
         self.timer.stop()
@@ -111,6 +171,7 @@ class Autosave(QObject):
                 "original": str(self.controller.path) if self.controller.path else None}
         try:
             self.folder.mkdir(parents=True, exist_ok=True)
+            self._hold_lock()
             atomic_write_text(self.scene_file, dumps_scene(self.controller.scene))
             atomic_write_text(self.meta_file, json.dumps(meta))
         except (ExportError, OSError) as exc:
@@ -128,6 +189,10 @@ class Autosave(QObject):
                 pass
             except OSError as exc:
                 self.controller.message.emit(f"cannot remove {p}: {exc}")
+        try:
+            self._release_lock()
+        except OSError as exc:
+            self.controller.message.emit(f"cannot remove {self.lock_file}: {exc}")
 
     def clean_exit(self) -> None:
         self.stop()
@@ -152,10 +217,14 @@ class Autosave(QObject):
                 original = meta.get("original")
             except (OSError, ValueError, TypeError, AttributeError):
                 continue
-            if pid == os.getpid() or _alive(pid) or not scene_path.is_file():
+            if scene_path == self.scene_file or not scene_path.is_file():
+                continue
+            lock_path = scene_path.with_suffix(".lock")
+            held = _lock_held(lock_path)
+            if held or (held is None and (pid == os.getpid() or _alive(pid))):
                 continue
             out.append(Recovery(scene_path, meta_path, original if isinstance(original, str) else None,
-                                saved_at))
+                                saved_at, lock_path if held is not None else None))
         return sorted(out, key=lambda r: r.saved_at, reverse=True)
 
     def restore(self, recovery: Recovery) -> Scene | None:

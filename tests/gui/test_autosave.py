@@ -9,7 +9,7 @@ import textwrap
 
 from mechsketch.core import MoveJoint, load_scene
 from mechsketch.core.io.scene_file import dumps_scene
-from mechsketch.gui.autosave import state_dir
+from mechsketch.gui.autosave import Autosave, state_dir
 
 from app_fakes import FakeDialogs, shell  # noqa: F401 - fixture
 
@@ -130,3 +130,65 @@ def test_a_real_crash_leaves_a_file_the_next_start_restores(shell, tmp_path):
     parts = shell(state_dir=tmp_path / "state", dialogs=dialogs, offer_recovery=True)
     assert parts.controller.scene.element("fourbar").joint("B").at == (23.0, 31.0)
     assert parts.controller.is_dirty
+
+
+def test_recovery_is_offered_when_the_dead_apps_pid_belongs_to_another_process(shell, tmp_path):
+    """Issue 13 item 13: a crashed app's PID reused by a live process must not hide its work."""
+    env = dict(os.environ, MECHSKETCH_STATE_DIR=str(tmp_path / "state"), QT_QPA_PLATFORM="offscreen",
+               PYTHONPATH=os.pathsep.join([os.path.dirname(__file__), os.environ.get("PYTHONPATH", "")]))
+    run = subprocess.run([sys.executable, "-c", CRASH], env=env, capture_output=True, text=True, timeout=60)
+    assert run.returncode == 3, run.stderr
+    (meta_path,) = (tmp_path / "state").glob("recovery-*.meta.json")
+    meta = json.loads(meta_path.read_text())
+    meta["pid"] = os.getppid()            # the dead app's PID now names a live, unrelated process
+    meta_path.write_text(json.dumps(meta))
+    dialogs = FakeDialogs()
+    dialogs.yes_no.append(True)
+    parts = shell(state_dir=tmp_path / "state", dialogs=dialogs, offer_recovery=True)
+    assert dialogs.questions and dialogs.questions[0][0] == "Restore unsaved work?"
+    assert parts.controller.scene.element("fourbar").joint("B").at == (23.0, 31.0)
+
+
+LIVE = textwrap.dedent("""
+    import sys
+    from mechsketch.core import MoveJoint
+    from mechsketch.gui.app import build
+    from app_fakes import FakeDialogs, stand_in_components
+    parts = build(dialogs=FakeDialogs(), components=stand_in_components, offer_recovery=False)
+    parts.controller.push(MoveJoint("fourbar", "B", (23.0, 31.0)), "move joint B")
+    assert parts.autosave.save_now()
+    print("saved", flush=True)
+    sys.stdin.read()              # runs until the test closes our stdin
+    parts.autosave.clean_exit()
+""")
+
+
+def test_a_live_app_is_recognised_by_more_than_its_pid(shell, tmp_path):
+    """A running app's recovery file is never offered, even if its PID looked dead."""
+    folder = tmp_path / "state"
+    env = dict(os.environ, MECHSKETCH_STATE_DIR=str(folder), QT_QPA_PLATFORM="offscreen",
+               PYTHONPATH=os.pathsep.join([os.path.dirname(__file__), os.environ.get("PYTHONPATH", "")]))
+    live = subprocess.Popen([sys.executable, "-c", LIVE], env=env, stdin=subprocess.PIPE,
+                            stdout=subprocess.PIPE, text=True)
+    try:
+        assert live.stdout.readline().strip() == "saved"
+        (meta_path,) = folder.glob("recovery-*.meta.json")
+        meta = json.loads(meta_path.read_text())
+        meta["pid"] = 999_999_999         # a PID that says "dead"; the lock says "alive"
+        meta_path.write_text(json.dumps(meta))
+        parts = shell(state_dir=folder, offer_recovery=True)
+        assert not parts.dialogs.questions
+    finally:
+        live.communicate("", timeout=60)
+    assert live.returncode == 0
+    assert not list(folder.glob("recovery-*"))               # a clean exit leaves nothing
+
+
+def test_a_start_removes_temporaries_a_killed_autosave_left(shell, tmp_path):
+    folder = tmp_path / "state"
+    folder.mkdir()
+    orphan = folder / ".recovery-4242.json.abcd1234.tmp"
+    orphan.write_text("half")
+    os.utime(orphan, (1e9, 1e9))
+    shell(state_dir=folder, offer_recovery=True)
+    assert not orphan.exists()
