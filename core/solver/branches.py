@@ -64,7 +64,7 @@ def find_branch_points(plan: "Plan", steps, known: dict[str, np.ndarray]) -> dic
         name = step.group.name
         if name in known:
             continue
-        if step.group.kind not in MODAL_KINDS:
+        if step.group.kind not in MODAL_KINDS or step.group.fixed:  # fixed: it does not move
             known[name] = np.empty(0)
             continue
         idx = plan.closure(k)

@@ -67,11 +67,15 @@ class Diagnostics:
     solve_time: float                                 # s
     residual: float                                   # mm
     full_turn: bool = field(default=False)
+    fixed: tuple[str, ...] = ()                       # groups hung on the frame only (do not move)
 
     def lines(self) -> list[str]:
         out = [f"mobility: {self.mobility}"]
         for name, kind, mode in self.groups:
             out.append(f"group {name}: kind {kind}" + (f", mode {mode:+d}" if mode is not None else ""))
+        for name in self.fixed:
+            out.append(f"group {name} is fixed to the frame: it hangs on frame joints only, so it has "
+                       f"zero mobility and its links do not move (solved once, in the drawn pose)")
         if self.full_turn:
             out.append("reachable: full revolution of the driver")
         elif not self.reachable:
@@ -148,9 +152,9 @@ def diagnose(sol: Solution) -> Diagnostics:
                     break
     # near-toggles inside the reachable range: local minima of conditioning below the threshold
     for g in sol.groups:
-        c = np.where(valid, sol.conditioning(g.name), np.inf)
-        if c.ndim == 0:
+        if g.fixed:  # does not move: no toggle to pass through
             continue
+        c = np.where(valid, sol.conditioning(g.name), np.inf)
         prev, nxt = np.roll(c, 1), np.roll(c, -1)
         cand = np.flatnonzero((c < TOGGLE_COND) & (c <= prev) & (c <= nxt) & np.isfinite(prev) & np.isfinite(nxt))
         branches = plan.branch_points().get(g.name, np.empty(0))
@@ -179,4 +183,4 @@ def diagnose(sol: Solution) -> Diagnostics:
             if mu.size:
                 trans[g.name] = (float(mu.min()), float(mu.max()))
     return Diagnostics(plan.mobility, groups, n, float(valid.mean()), reachable, dead, trans,
-                       sol.elapsed, sol.residual(), full)
+                       sol.elapsed, sol.residual(), full, tuple(g.name for g in sol.groups if g.fixed))

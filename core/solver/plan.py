@@ -118,8 +118,11 @@ class Plan:
         with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
             for k in idx:
                 step = self.steps[k]
-                flip = flip_factor(branches.get(step.group.name), inputs, self.theta0, self.direction)
-                out = step.run(states, order, flip)
+                if step.group.fixed:
+                    out = _held(step.run(states, order, None), inputs.shape, order)
+                else:
+                    flip = flip_factor(branches.get(step.group.name), inputs, self.theta0, self.direction)
+                    out = step.run(states, order, flip)
                 # assembled only where the solved poses are finite: the kernels' arithmetic can
                 # break down although their assembly test passed (outer joints exactly
                 # coincident: a 0/0 direction; lengths whose squares overflow)
@@ -167,6 +170,26 @@ class Plan:
         inputs = self.theta0 + sgn * (2.0 * math.pi / n) * k
         t = k * (2.0 * math.pi / abs(self.omega) / n)
         return self.evaluate(inputs, order=order, joints=joints, t=t)
+
+
+def _held(out: K.DyadOut, shape: tuple[int, ...], order: int) -> K.DyadOut:
+    """A fixed group (hung on the frame only: zero mobility) solved once: its links stay in the
+    drawn pose (anchor at its drawn point, no rotation, rates exactly 0) at every sample; its
+    assembly test, conditioning and margin (those of the drawn pose) broadcast to ``shape``."""
+    def still(st: K.LinkState) -> K.LinkState:
+        held = K.LinkState(st.a0, np.full(shape, st.a0, dtype=complex), np.ones(shape, dtype=complex))
+        if order >= 1:
+            held.vA, held.omega = np.zeros(shape, dtype=complex), np.zeros(shape)
+        if order >= 2:
+            held.aA, held.alpha = np.zeros(shape, dtype=complex), np.zeros(shape)
+        return held
+
+    zero = np.zeros(shape)
+    slides = tuple(K.Slide(zero, zero if order >= 1 else None, zero if order >= 2 else None) for _ in out.slides)
+    ok = np.broadcast_to(np.asarray(out.ok, dtype=bool), shape).copy()
+    return K.DyadOut(still(out.state_i), still(out.state_j), ok,
+                     np.broadcast_to(np.asarray(out.cond, dtype=float), shape).copy(),
+                     np.broadcast_to(np.asarray(out.gap, dtype=float), shape).copy(), out.mode, slides)
 
 
 def _axis(linkage: Linkage, jid: str) -> tuple[complex, complex]:

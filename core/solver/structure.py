@@ -7,7 +7,7 @@ in solving order; :mod:`mechsketch.core.solver.plan` compiles them into array ke
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from enum import StrEnum
 
 from ..errors import StructureError
@@ -52,6 +52,9 @@ class Group:
     outer_j: str
     known_i: str
     known_j: str
+    #: hung on the frame only (directly or through other fixed groups): zero mobility, its links
+    #: do not move whatever the driver does; solved once (see :func:`fixed_links`)
+    fixed: bool = False
 
     def __post_init__(self) -> None:
         if not isinstance(self.kind, GroupKind):
@@ -95,25 +98,14 @@ def _check_driver(linkage: Linkage) -> None:
                              joints=(drv.pivot,), links=(drv.link,))
 
 
-def decompose(linkage: Linkage) -> list[Group]:
-    """Split into driver + dyads, in solving order.
-
-    Raises :class:`StructureError` naming the joints and links at fault when the mobility is not 1
-    or when what remains after the dyads cannot be split into class-II groups.
-    """
-    _check_driver(linkage)
-    f = mobility(linkage)
-    if f != 1:
-        state = "under-constrained (it can move freely)" if f > 1 else "over-constrained (it cannot move)"
-        raise StructureError(
-            f"linkage {linkage.id!r} has mobility {f}, needs 1 for one driver: it is {state}. "
-            f"{len(linkage.links)} links, {joint_count(linkage)} lower pairs "
-            f"(F = 3·({len(linkage.links)}−1) − 2·{joint_count(linkage)})",
-            joints=linkage.joint_ids, links=linkage.link_ids)
-    known = {linkage.ground, linkage.driver.link}
-    links = {k.id: k for k in linkage.links}
+def _split(linkage: Linkage, known: set[str], skip: frozenset[str] = frozenset(),
+           strict: bool = True) -> list[Group]:
+    """Dyads solvable from the links in ``known`` (updated in place), in solving order; links in
+    ``skip`` are never used. ``strict``: raise StructureError when links remain that do not split
+    into dyads; else return the groups found so far."""
+    links = {k.id: k for k in linkage.links if k.id not in skip}
     kinds = {j.id: j.kind for j in linkage.joints}
-    members = {j.id: set(linkage.links_of(j.id)) for j in linkage.joints}
+    members = {j.id: set(linkage.links_of(j.id)) - skip for j in linkage.joints}
     order = [k.id for k in linkage.links]
     groups: list[Group] = []
 
@@ -127,10 +119,10 @@ def decompose(linkage: Linkage) -> list[Group]:
                     break
         return out
 
-    while len(known) < len(links):
+    while len(known & links.keys()) < len(links):
         found = None
         for li in order:
-            if li in known:
+            if li in known or li not in links:
                 continue
             oi = outer(li)
             if len(oi) != 1:
@@ -150,6 +142,8 @@ def decompose(linkage: Linkage) -> list[Group]:
                 else:
                     li_, lj_, oi_, oj_ = li, lj, oi, oj
                 if kind not in DYAD_KINDS:
+                    if not strict:
+                        continue
                     raise StructureError(
                         f"links {li!r} and {lj!r} form a PPP group (three prismatic joints "
                         f"{oi[0][0]}, {jid}, {oj[0][0]}): its rotation is undetermined",
@@ -160,6 +154,8 @@ def decompose(linkage: Linkage) -> list[Group]:
             if found:
                 break
         if found is None:
+            if not strict:
+                break
             rest = [k for k in order if k not in known]
             rest_joints = sorted({j for k in rest for j in links[k].joints}, key=linkage.joint_ids.index)
             raise StructureError(
@@ -170,3 +166,45 @@ def decompose(linkage: Linkage) -> list[Group]:
         groups.append(found)
         known.update((found.link_i, found.link_j))
     return groups
+
+
+def fixed_links(linkage: Linkage) -> set[str]:
+    """The frame and the links that cannot move whatever the driver does: those of dyads hung on
+    frame joints only (an RRR between two ground pivots, a slider whose rod pivots on the frame and
+    whose guide is the frame), directly or through other such dyads. Such a group is a structure
+    of zero mobility. Needs no driver (the driver link is never used)."""
+    if linkage.ground not in linkage.link_ids:
+        return set()
+    known = {linkage.ground}
+    drv = linkage.driver.link
+    skip = frozenset({drv}) if drv and drv != linkage.ground and drv in linkage.link_ids else frozenset()
+    _split(linkage, known, skip, strict=False)
+    return known
+
+
+def decompose(linkage: Linkage) -> list[Group]:
+    """Split into driver + dyads, in solving order.
+
+    Raises :class:`StructureError` naming the joints and links at fault when the mobility is not 1
+    or when what remains after the dyads cannot be split into class-II groups. Groups whose links
+    are :func:`fixed_links` (hung on the frame only) have ``fixed`` True.
+    """
+    _check_driver(linkage)
+    f = mobility(linkage)
+    if f != 1:
+        state = "under-constrained (it can move freely)" if f > 1 else "over-constrained (it cannot move)"
+        raise StructureError(
+            f"linkage {linkage.id!r} has mobility {f}, needs 1 for one driver: it is {state}. "
+            f"{len(linkage.links)} links, {joint_count(linkage)} lower pairs "
+            f"(F = 3·({len(linkage.links)}−1) − 2·{joint_count(linkage)})",
+            joints=linkage.joint_ids, links=linkage.link_ids)
+    groups = _split(linkage, {linkage.ground, linkage.driver.link})
+    fixed = fixed_links(linkage)
+
+    def frame_side(joint: str, known: str) -> str:
+        """A fixed group's known link on the frame side (the frame, not the crank, at its pivot)."""
+        return linkage.ground if known not in fixed and linkage.ground in linkage.links_of(joint) else known
+
+    return [replace(g, fixed=True, known_i=frame_side(g.outer_i, g.known_i),
+                    known_j=frame_side(g.outer_j, g.known_j))
+            if g.link_i in fixed and g.link_j in fixed else g for g in groups]
