@@ -10,6 +10,7 @@ from dataclasses import dataclass, field, replace
 from enum import Enum
 
 from ..errors import UnknownIdError
+from .loads import JointFriction, LinkMass, Load
 
 XYTuple = tuple[float, float]
 
@@ -77,7 +78,13 @@ class Driver:
 
 @dataclass(frozen=True)
 class Linkage:
-    """A planar linkage element of a scene (type ``"linkage"``)."""
+    """A planar linkage element of a scene (type ``"linkage"``).
+
+    Optional, for the kinetostatics (:mod:`mechsketch.core.model.loads`, SI units): ``masses``
+    (one :class:`LinkMass` per link that has one), ``gravity`` (gx, gy) m/s² or None, ``loads``
+    (forces, torques, springs, dampers) and ``friction`` (friction-circle radii of revolute
+    joints). A file without them loads as before; they never change the kinematics.
+    """
 
     id: str
     joints: tuple[Joint, ...]
@@ -85,6 +92,10 @@ class Linkage:
     ground: str
     driver: Driver
     samples: int = 360
+    masses: tuple[LinkMass, ...] = ()
+    gravity: XYTuple | None = None
+    loads: tuple[Load, ...] = ()
+    friction: tuple[JointFriction, ...] = ()
     type: str = field(default="linkage", init=False)
 
     # -- look-ups -------------------------------------------------------------------------
@@ -121,6 +132,76 @@ class Linkage:
     def moving_links(self) -> tuple[str, ...]:
         return tuple(k.id for k in self.links if k.id != self.ground)
 
+    # -- masses and loads -----------------------------------------------------------------
+    def mass_of(self, link_id: str) -> LinkMass | None:
+        """The mass properties of ``link_id`` (None: massless)."""
+        return next((m for m in self.masses if m.link == link_id), None)
+
+    def load(self, load_id: str) -> Load:
+        for ld in self.loads:
+            if ld.id == load_id:
+                return ld
+        raise UnknownIdError(f"linkage {self.id!r} has no load {load_id!r}")
+
+    @property
+    def load_ids(self) -> tuple[str, ...]:
+        return tuple(ld.id for ld in self.loads)
+
+    def friction_of(self, joint_id: str) -> float:
+        """Friction-circle radius of ``joint_id``, mm (0: frictionless)."""
+        return next((f.radius for f in self.friction if f.joint == joint_id), 0.0)
+
+    @property
+    def has_dynamics(self) -> bool:
+        """Some link has a mass or some load is applied: the forces are not all zero."""
+        return any(m.mass > 0 for m in self.masses) or bool(self.loads)
+
+    def with_mass(self, link_id: str, mass: LinkMass | None) -> "Linkage":
+        """Set (or with None remove) the mass properties of ``link_id``."""
+        self.link(link_id)
+        rest = tuple(m for m in self.masses if m.link != link_id)
+        if mass is None:
+            return replace(self, masses=rest)
+        order = self.link_ids
+        return replace(self, masses=tuple(sorted(rest + (replace(mass, link=link_id),),
+                                                 key=lambda m: order.index(m.link))))
+
+    def with_load(self, load: Load) -> "Linkage":
+        """Add ``load``, or replace the load with the same id (it keeps its place)."""
+        for name in load.links:
+            self.link(name)
+        if load.id in self.load_ids:
+            return replace(self, loads=tuple(load if ld.id == load.id else ld for ld in self.loads))
+        return replace(self, loads=self.loads + (load,))
+
+    def without_load(self, load_id: str) -> "Linkage":
+        self.load(load_id)
+        return replace(self, loads=tuple(ld for ld in self.loads if ld.id != load_id))
+
+    def with_gravity(self, gravity: XYTuple | None) -> "Linkage":
+        g = None if gravity is None else (float(gravity[0]), float(gravity[1]))
+        return replace(self, gravity=g)
+
+    def with_friction(self, joint_id: str, radius: float) -> "Linkage":
+        """Set the friction-circle radius (mm) of revolute joint ``joint_id`` (0: frictionless)."""
+        self.joint(joint_id)
+        rest = tuple(f for f in self.friction if f.joint != joint_id)
+        if radius == 0.0:
+            return replace(self, friction=rest)
+        order = self.joint_ids
+        return replace(self, friction=tuple(sorted(rest + (JointFriction(joint_id, float(radius)),),
+                                                   key=lambda f: order.index(f.joint))))
+
+    def _pruned(self) -> "Linkage":
+        """Drop masses, loads and friction that name links or joints no longer here."""
+        links, joints = set(self.link_ids), set(self.joint_ids)
+        masses = tuple(m for m in self.masses if m.link in links)
+        loads = tuple(ld for ld in self.loads if set(ld.links) <= links)
+        friction = tuple(f for f in self.friction if f.joint in joints)
+        if (masses, loads, friction) == (self.masses, self.loads, self.friction):
+            return self
+        return replace(self, masses=masses, loads=loads, friction=friction)
+
     # -- derived edits (return new linkages; the document wraps them in reversible edits) --
     def with_joint_moved(self, joint_id: str, at: XYTuple) -> "Linkage":
         self.joint(joint_id)
@@ -148,11 +229,11 @@ class Linkage:
         self.joint(joint_id)
         links = tuple(Link(k.id, tuple(j for j in k.joints if j != joint_id)) for k in self.links)
         links = tuple(k for k in links if k.joints or k.id == self.ground)
-        return replace(self, joints=tuple(j for j in self.joints if j.id != joint_id), links=links)
+        return replace(self, joints=tuple(j for j in self.joints if j.id != joint_id), links=links)._pruned()
 
     def without_link(self, link_id: str) -> "Linkage":
         self.link(link_id)
-        return replace(self, links=tuple(k for k in self.links if k.id != link_id))
+        return replace(self, links=tuple(k for k in self.links if k.id != link_id))._pruned()
 
     def with_driver(self, driver: Driver) -> "Linkage":
         return replace(self, driver=driver)
@@ -161,12 +242,27 @@ class Linkage:
         return replace(self, samples=int(samples))
 
     def to_dict(self) -> dict:
-        return {
+        joints = [j.to_dict() for j in self.joints]
+        for d in joints:
+            radius = self.friction_of(d["id"])
+            if radius:
+                d["friction_radius"] = radius
+        links = [k.to_dict() for k in self.links]
+        for d in links:
+            mass = self.mass_of(d["id"])
+            if mass is not None:
+                d.update(mass.fields())
+        out = {
             "type": "linkage",
             "id": self.id,
-            "joints": [j.to_dict() for j in self.joints],
-            "links": [k.to_dict() for k in self.links],
+            "joints": joints,
+            "links": links,
             "ground": self.ground,
             "driver": self.driver.to_dict() if self.has_driver else None,
             "samples": self.samples,
         }
+        if self.gravity is not None:
+            out["gravity"] = [self.gravity[0], self.gravity[1]]
+        if self.loads:
+            out["loads"] = [ld.to_dict() for ld in self.loads]
+        return out

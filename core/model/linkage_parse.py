@@ -11,6 +11,7 @@ from typing import Any
 
 from ..errors import Problem
 from .linkage import Driver, Joint, JointKind, Link, Linkage
+from .loads_parse import parse_dynamics
 
 SCHEMA = "linkage.schema.json"
 #: driver speed given to a draft linkage (saved with "driver": null) until its crank is drawn
@@ -132,8 +133,12 @@ def parse(data: dict[str, Any], path: str) -> tuple[Linkage | None, list[Problem
                 if ground in link_ids and dd["pivot"] not in next(lk for lk in links if lk.id == ground).joints:
                     bad("driver.pivot", f"pivot {dd['pivot']!r} is not on the ground link {ground!r}", dd["pivot"])
 
+    masses, gravity, loads, friction = parse_dynamics(
+        data, bad, [lk.id for lk in links], ground)
+
     if problems:
         return None, problems
     linkage = Linkage(eid, tuple(joints), tuple(links), ground,
-                      Driver(dd["link"], dd["pivot"], speed), int(data.get("samples", 360)))
+                      Driver(dd["link"], dd["pivot"], speed), int(data.get("samples", 360)),
+                      masses, gravity, loads, friction)
     return linkage, problems
