@@ -33,7 +33,8 @@ from ..analyses.geneva_geometry import GenevaGeometry, geometry
 from ..analyses.geneva_kinematics import GenevaKinematics, kinematics
 from ..analyses.geneva_report import summary as geneva_summary
 from ..analyses.linkage_report import linkage_summary
-from ..analyses.rolling_geometry import rot
+from ..analyses.rolling_geometry import pose_state
+from ..analyses.rolling_slip import SlipSamples
 from ..analyses.rolling_synthesis import RollingSynthesis, synthesize
 from ..errors import MechsketchError
 from ..model.geneva import Geneva
@@ -52,9 +53,24 @@ def _message(exc: BaseException) -> str:
     return str(exc).strip() or type(exc).__name__
 
 
+class _Result:
+    """What every result has: the element it is of, and whether it solved (``error`` None)."""
+
+    element: object
+    error: str | None
+
+    @property
+    def element_id(self) -> str:
+        return self.element.id
+
+    @property
+    def ok(self) -> bool:
+        return self.error is None
+
+
 # -- linkage -----------------------------------------------------------------------------------
 @dataclass
-class LinkageResult:
+class LinkageResult(_Result):
     """One linkage solved over one driver revolution of N samples at order 2.
 
     ``plan`` the compiled plan, ``solution`` the sweep (positions, velocities, accelerations);
@@ -74,14 +90,6 @@ class LinkageResult:
     _diagnostics: Diagnostics | None = field(default=None, repr=False)
 
     kind = "linkage"
-
-    @property
-    def element_id(self) -> str:
-        return self.element.id
-
-    @property
-    def ok(self) -> bool:
-        return self.error is None
 
     @property
     def n_frames(self) -> int:
@@ -131,7 +139,7 @@ def solve_linkage(element: Linkage, samples: int | None = None, plan: Plan | Non
 
 # -- Geneva ------------------------------------------------------------------------------------
 @dataclass
-class GenevaResult:
+class GenevaResult(_Result):
     """One Geneva drive solved over one crank revolution of N samples.
 
     ``crank_rotation`` and ``wheel_rotation`` (N,) rad are the world rotations of the driver parts
@@ -153,14 +161,6 @@ class GenevaResult:
     _summary: str | None = field(default=None, repr=False)
 
     kind = "geneva"
-
-    @property
-    def element_id(self) -> str:
-        return self.element.id
-
-    @property
-    def ok(self) -> bool:
-        return self.error is None
 
     @property
     def n_frames(self) -> int:
@@ -223,7 +223,9 @@ class RollingFrames:
     ``theta`` lever rotation (rad, 0 = drawn pose), ``alpha`` rocker angle (rad), ``F`` the pin,
     ``P`` the pair-D contact, ``P0`` the pair-E contact (N, 2) mm in the ground; ``S5`` slider
     travel (mm). With a drive: ``phi`` crank angle (rad, CCW from the folded dead centre), crank
-    pivot ``A``, crank pin ``B`` and lever point ``C`` (N, 2) mm; else they are None.
+    pivot ``A``, crank pin ``B`` and lever point ``C`` (N, 2) mm; else they are None. ``u1`` /
+    ``u2`` (N,) rad: the contact angles on the lever circle and on the slider circle (lever frame,
+    drawn pose), so the contact can be marked on the lever at every frame.
     """
 
     theta: np.ndarray
@@ -236,21 +238,23 @@ class RollingFrames:
     A: np.ndarray | None = None
     B: np.ndarray | None = None
     C: np.ndarray | None = None
+    u1: np.ndarray | None = None
+    u2: np.ndarray | None = None
 
     def __len__(self) -> int:
         return len(self.theta)
 
 
 @dataclass
-class RollingResult:
+class RollingResult(_Result):
     """One rolling lever synthesised, with what the canvas and the plots draw.
 
     ``frame_profile`` (M, 2) mm ground frame and ``slider_profile`` (M, 2) mm slider frame are
     polylines through the synthesis' profile curves; ``bicentrode`` (N+1, 2) mm the locus of P0;
     ``lever_arc`` and ``slider_arc`` (start, end) rad the contact angles u1, u2 over the stroke
-    (lever frame). ``slip_d`` / ``slip_e`` (N+1,) mm: the cumulative kinematic slip of pairs D and
-    E along the stroke (the per-interval terms of the core's ``kinematic_slip``; the last values
-    equal the summary's). ``error`` holds the core's message when the synthesis failed.
+    (lever frame). :attr:`slip_samples`: the slip of pairs D and E accumulated along the stroke,
+    computed by the synthesis' slip report (the last values are the summary's figures).
+    ``error`` holds the core's message when the synthesis failed.
     """
 
     element: RollingLever
@@ -261,8 +265,6 @@ class RollingResult:
     bicentrode: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
     lever_arc: tuple[float, float] = (0.0, 0.0)
     slider_arc: tuple[float, float] = (0.0, 0.0)
-    slip_d: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    slip_e: np.ndarray = field(default_factory=lambda: np.zeros(0))
     error: str | None = None
     exception: MechsketchError | None = field(default=None, repr=False)   # what ``error`` says
     seconds: float = 0.0
@@ -270,12 +272,10 @@ class RollingResult:
     kind = "rolling_lever"
 
     @property
-    def element_id(self) -> str:
-        return self.element.id
-
-    @property
-    def ok(self) -> bool:
-        return self.error is None
+    def slip_samples(self) -> SlipSamples | None:
+        """Slip of pairs D and E per sample along the stroke (None without a slip report)."""
+        syn = self.synthesis
+        return syn.slip.samples if syn is not None and syn.slip is not None else None
 
     @property
     def n_frames(self) -> int:
@@ -298,23 +298,6 @@ class RollingResult:
         return self.synthesis.summary()
 
 
-def cumulative_slip(res: RollingSynthesis) -> tuple[np.ndarray, np.ndarray]:
-    """Cumulative kinematic slip of pairs D and E (N+1,) mm along the stroke samples: the running
-    sums of the terms of :func:`mechsketch.core.analyses.rolling_slip.point_measures`."""
-    g = res.geom
-    f = np.asarray(g.f)
-    F, th, S5 = res.F, res.theta, res.S5
-
-    def moved(centre: tuple[float, float], radius: float, u: np.ndarray) -> np.ndarray:
-        um = 0.5 * (u[1:] + u[:-1])
-        m = np.asarray(centre) + radius * np.stack([np.cos(um), np.sin(um)], axis=-1)
-        return (F[1:] + rot(th[1:], m - f)) - (F[:-1] + rot(th[:-1], m - f))
-
-    d = np.linalg.norm(moved(g.c1, g.R1, res.u1), axis=1)
-    e = np.linalg.norm(moved(g.c2, g.R2, res.u2) - np.diff(S5)[:, None] * np.asarray(g.ds), axis=1)
-    return np.concatenate([[0.0], np.cumsum(d)]), np.concatenate([[0.0], np.cumsum(e)])
-
-
 def _rolling_frames(res: RollingSynthesis, n: int) -> RollingFrames:
     """The animation cycle (see :class:`RollingFrames`)."""
     k = np.arange(n, dtype=float)
@@ -322,11 +305,12 @@ def _rolling_frames(res: RollingSynthesis, n: int) -> RollingFrames:
     if drive is not None:
         phi = drive.phi_folded + 2.0 * math.pi * k / n
         m = drive.frames(phi)
-        return RollingFrames(m.theta, m.alpha, m.F, m.P, m.P0, m.S5, phi, m.A, m.B, m.C)
+        st = pose_state(res.geom, m.alpha, m.theta)
+        return RollingFrames(m.theta, m.alpha, m.F, m.P, m.P0, m.S5, phi, m.A, m.B, m.C, st.u1, st.u2)
     st = res.element.stroke
     theta = st.start + st.span * 0.5 * (1.0 - np.cos(2.0 * math.pi * k / n))
     state, s5 = res.pose(theta)
-    return RollingFrames(theta, state.alpha, state.F, state.P, state.P0, s5)
+    return RollingFrames(theta, state.alpha, state.F, state.P, state.P0, s5, u1=state.u1, u2=state.u2)
 
 
 def _curve(curve_range, points: int) -> np.ndarray:
@@ -357,7 +341,6 @@ def solve_rolling(element: RollingLever) -> RollingResult:
     out.bicentrode = np.asarray(res.P0, dtype=float)
     out.lever_arc = (float(np.min(res.u1)), float(np.max(res.u1)))
     out.slider_arc = (float(np.min(res.u2)), float(np.max(res.u2)))
-    out.slip_d, out.slip_e = cumulative_slip(res)
     out.seconds = time.perf_counter() - t0
     return out
 
