@@ -9,6 +9,7 @@ import math
 from dataclasses import replace
 
 from mechsketch.core.model.linkage import Joint, JointKind
+from mechsketch.core.solver.structure import fixed_links
 
 from . import ops
 from .events import XY, CanvasEvent, Hit
@@ -136,6 +137,11 @@ class _DyadTool(Tool):
         if any(p.id == h.id for p in self._picked):
             self.explain(f"{h.id} is picked already: pick a different joint for {role}")
             return None
+        if self._picked:  # the other outer joint: a pair fixed to the frame makes a structure
+            why = ops.fixed_dyad(self.ctx.linkage(h.element), self._picked[0].id, h.id)
+            if why:
+                self.explain(f"{self.title}: {why}")
+                return None
         return h
 
 
@@ -257,6 +263,14 @@ class SliderTool(_DyadTool):
                 return
             else:
                 self._guide = (lk.ground, ev.pos)
+            rod = self._picked[0].id
+            if self._guide[0] in fixed_links(lk) and ops.fixed_point(lk, rod):
+                what = "the frame" if self._guide[0] == lk.ground else f"{self._guide[0]} (fixed to the frame)"
+                self._guide = None
+                self.explain(f"slider: the rod's joint {rod} is fixed to the frame and the guide would be on "
+                             f"{what}: the slider would not move (zero mobility); click a moving link for "
+                             f"the guide, or start the rod from a moving joint")
+                return
             self.explain(f"slider: guide on {self._guide[0]}; click where the slider pin goes")
             return
         why = self._check(ev)

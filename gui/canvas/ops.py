@@ -12,6 +12,7 @@ from typing import Iterable
 from mechsketch.core.errors import MechsketchError
 from mechsketch.core.model.linkage import Driver, Joint, JointKind, Link, Linkage
 from mechsketch.core.solver.plan import compile_plan
+from mechsketch.core.solver.structure import fixed_links
 
 from .events import XY
 
@@ -72,6 +73,22 @@ def has_driver(linkage: Linkage) -> bool:
 
 def on_ground(linkage: Linkage, joint_id: str) -> bool:
     return linkage.ground in linkage.links_of(joint_id)
+
+
+def fixed_point(linkage: Linkage, joint_id: str) -> bool:
+    """``joint_id`` cannot move: it is on the frame or on a link fixed to it (a dyad hung on frame
+    joints only), whatever the driver does (the crank's pivot included)."""
+    fixed = fixed_links(linkage)
+    return any(k in fixed for k in linkage.links_of(joint_id))
+
+
+def fixed_dyad(linkage: Linkage, joint_a: str, joint_b: str) -> str | None:
+    """Why a dyad from ``joint_a`` to ``joint_b`` would be a structure (zero mobility), or None."""
+    if fixed_point(linkage, joint_a) and fixed_point(linkage, joint_b):
+        return (f"{joint_a} and {joint_b} are both fixed to the frame: a dyad between them would not "
+                f"move (zero mobility); pick a joint of a moving link (the crank tip, a coupler or "
+                f"rocker joint)")
+    return None
 
 
 def structure_error(linkage: Linkage) -> str | None:
