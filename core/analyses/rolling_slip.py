@@ -162,23 +162,67 @@ class PointMeasures:
     deviation: float
 
 
+def kinematic_slip_terms(geom: LeverGeometry, theta, F, u1, u2, S5) -> tuple[np.ndarray, np.ndarray]:
+    """Per-interval kinematic slip of pairs D and E (N,) mm between construction points k and k+1.
+
+    Pair D: |X_{k+1}(m_k) − X_k(m_k)|, m_k the lever point at mid-arc of the lever circle between
+    u1_k and u1_{k+1}; pair E: the same for the slider-circle point, relative to the slider (its
+    travel ΔS5 along the axis removed). ``theta`` (N+1,) rad, ``F`` (N+1, 2) mm, ``u1``/``u2``
+    (N+1,) rad unwrapped, ``S5`` (N+1,) mm. The sums are :class:`PointMeasures`' kinematic slips.
+    """
+    f = np.asarray(geom.f)
+    F = np.asarray(F, dtype=float)
+    theta = np.asarray(theta, dtype=float)
+
+    def moved(centre, radius: float, u: np.ndarray) -> np.ndarray:
+        um = 0.5 * (u[1:] + u[:-1])
+        m = np.asarray(centre) + radius * np.stack([np.cos(um), np.sin(um)], axis=-1)
+        return (F[1:] + rot(theta[1:], m - f)) - (F[:-1] + rot(theta[:-1], m - f))
+
+    d = np.linalg.norm(moved(geom.c1, geom.R1, np.asarray(u1, dtype=float)), axis=1)
+    rel = moved(geom.c2, geom.R2, np.asarray(u2, dtype=float)) - np.diff(S5)[:, None] * np.asarray(geom.ds)
+    return d, np.linalg.norm(rel, axis=1)
+
+
+def running_sum(terms: np.ndarray) -> np.ndarray:
+    """(N+1,) running sum of (N,) per-interval terms, starting at 0; its last value is the total."""
+    return np.concatenate([[0.0], np.cumsum(terms)])
+
+
 def point_measures(geom: LeverGeometry, theta, alpha, F, P, u1, u2, S5, ref: ExactReference | None) -> PointMeasures:
     """Measures of construction points k = 0…N (arrays (N+1,) rad / (N+1, 2) mm); u1, u2 unwrapped."""
-    f = np.asarray(geom.f)
     arc = float(np.sum(np.hypot(*np.diff(P, axis=0).T)) - geom.R1 * abs(u1[-1] - u1[0]))
-    um = 0.5 * (u1[1:] + u1[:-1])
-    m = np.asarray(geom.c1) + geom.R1 * np.stack([np.cos(um), np.sin(um)], axis=-1)
-    slip = float(np.sum(np.linalg.norm((F[1:] + rot(theta[1:], m - f)) - (F[:-1] + rot(theta[:-1], m - f)), axis=1)))
-    um2 = 0.5 * (u2[1:] + u2[:-1])
-    m2 = np.asarray(geom.c2) + geom.R2 * np.stack([np.cos(um2), np.sin(um2)], axis=-1)
-    moved = (F[1:] + rot(theta[1:], m2 - f)) - (F[:-1] + rot(theta[:-1], m2 - f))
-    rel = moved - np.diff(S5)[:, None] * np.asarray(geom.ds)
-    slip_e = float(np.sum(np.linalg.norm(rel, axis=1)))
+    d, e_terms = kinematic_slip_terms(geom, theta, F, u1, u2, S5)
+    slip, slip_e = float(running_sum(d)[-1]), float(running_sum(e_terms)[-1])
     e = (F - np.asarray(geom.G)) / geom.ell
     r = P - np.asarray(geom.G)
     off = np.abs(e[:, 0] * r[:, 1] - e[:, 1] * r[:, 0])
     dev = float(np.max(ref.distance(P))) if ref is not None else math.nan
     return PointMeasures(len(P) - 1, arc, slip, slip_e, float(off.max()), dev)
+
+
+@dataclass(frozen=True)
+class SlipSamples:
+    """Slip accumulated along the stroke, per sample (what the slip plots draw).
+
+    ``theta`` (N+1,) rad: the synthesis' samples, in stroke order; ``slip_d`` / ``slip_e`` (N+1,)
+    mm: the slip of pairs D and E from the start of the stroke to each sample (0 at the first).
+    ``source`` says which measure: ``"continuous"`` - the exact method's computed motion (its last
+    values are :class:`ContinuousMeasures` ``slip_d``/``slip_e``, the figures the summary reports),
+    ``"points"`` - the kinematic slip of the construction points (last values
+    :class:`PointMeasures` ``kinematic_slip``/``kinematic_slip_e``).
+    """
+
+    theta: np.ndarray
+    slip_d: np.ndarray
+    slip_e: np.ndarray
+    source: str
+
+
+def point_slip_samples(geom: LeverGeometry, theta, F, u1, u2, S5) -> SlipSamples:
+    """:class:`SlipSamples` of construction points (running sums of :func:`kinematic_slip_terms`)."""
+    d, e = kinematic_slip_terms(geom, theta, F, u1, u2, S5)
+    return SlipSamples(np.asarray(theta, dtype=float), running_sum(d), running_sum(e), "points")
 
 
 @dataclass(frozen=True)
@@ -293,10 +337,21 @@ def continuous_measures(path: ExactPath, start: float, end: float) -> Continuous
     each mesh interval, derivatives by fourth-order central differences of the dense output; any
     jump of the computed motion at a mesh node (dense value from the left against the node value)
     is added to the slip and to the lengths."""
+    return continuous_slip(path, start, end)[0]
+
+
+def continuous_slip(path: ExactPath, start: float, end: float,
+                    grid: np.ndarray | None = None) -> tuple[ContinuousMeasures, SlipSamples | None]:
+    """:func:`continuous_measures`, and with ``grid`` (M,) rad (inside the stroke, in stroke order)
+    the slip of pairs D and E accumulated from ``start`` to each grid point (:class:`SlipSamples`,
+    source "continuous"). The grid points are added to the integration knots, so the slip at the
+    last grid point equal to ``end`` is the measures' ``slip_d``/``slip_e`` to the last bit."""
     geom = path.geom
     lo, hi = min(start, end), max(start, end)
     th = path.theta
-    knots = np.unique(np.concatenate([[lo, hi], th[(th > lo) & (th < hi)]]))
+    extra = np.zeros(0) if grid is None else np.asarray(grid, dtype=float)
+    inside = extra[(extra > lo) & (extra < hi)]
+    knots = np.unique(np.concatenate([[lo, hi], th[(th > lo) & (th < hi)], inside]))
     mid, half = 0.5 * (knots[1:] + knots[:-1]), 0.5 * np.diff(knots)
     q = (mid[:, None] + half[:, None] * _GL_X[None, :]).ravel()
     w = (half[:, None] * _GL_W[None, :]).ravel()
@@ -337,7 +392,11 @@ def continuous_measures(path: ExactPath, start: float, end: float) -> Continuous
     r = st_c.P0 - st_c.F
     v_lever = geom.ell * da[:, None] * ep + np.stack([-r[:, 1], r[:, 0]], axis=-1)
     slip_e = np.linalg.norm(v_lever - ds5[:, None] * ds, axis=1)
-    out = [float(w @ slip_d), float(w @ slip_e), float(w @ np.linalg.norm(dP, axis=1)),
+    # slip per knot interval (ascending θ), then the jumps at inner mesh nodes added at those knots
+    n_int = len(knots) - 1
+    step_d = (w * slip_d).reshape(n_int, -1).sum(axis=1)
+    step_e = (w * slip_e).reshape(n_int, -1).sum(axis=1)
+    out = [0.0, 0.0, float(w @ np.linalg.norm(dP, axis=1)),
            float(geom.R1 * (w @ np.abs(du1))), float(w @ np.linalg.norm(dQ, axis=1)),
            float(geom.R2 * (w @ np.abs(du2)))]
     # jumps of the computed motion at inner mesh nodes (dense value from the left against the node)
@@ -348,17 +407,28 @@ def continuous_measures(path: ExactPath, start: float, end: float) -> Continuous
         left = pose_state(geom, a_l, th[inner])
         node = pose_state(geom, path.alpha[inner], th[inner])
         dF = node.F - left.F
-        out[0] += float(np.sum(np.linalg.norm(dF, axis=1)))
-        out[1] += float(np.sum(np.linalg.norm(dF - (path.S5[inner] - s_l)[:, None] * ds, axis=1)))
+        at_knot = np.searchsorted(knots, th[inner]) - 1   # the interval ending at the node
+        np.add.at(step_d, at_knot, np.linalg.norm(dF, axis=1))
+        np.add.at(step_e, at_knot, np.linalg.norm(dF - (path.S5[inner] - s_l)[:, None] * ds, axis=1))
         out[2] += float(np.sum(np.linalg.norm(node.P - left.P, axis=1)))
         out[3] += float(geom.R1 * np.sum(np.abs(_wrap(node.u1 - left.u1))))
         qn = node.P0 - path.S5[inner][:, None] * ds
         ql = left.P0 - s_l[:, None] * ds
         out[4] += float(np.sum(np.linalg.norm(qn - ql, axis=1)))
         out[5] += float(geom.R2 * np.sum(np.abs(_wrap(node.u2 - left.u2))))
+    cum_d, cum_e = running_sum(step_d), running_sum(step_e)
+    out[0], out[1] = float(cum_d[-1]), float(cum_e[-1])
     if not all(math.isfinite(x) for x in out):
         bad = q[~np.isfinite(st_c.rate) | ~np.isfinite(st_c.t2)]
         where = f" near θ ≈ {bad[0]:.6f} rad" if len(bad) else ""
         raise GeometryError(f"the continuous slip measures over θ from {start:g} to {end:g} rad cannot be "
                             f"evaluated{where}: the computed motion leaves the working range there")
-    return ContinuousMeasures(*out)
+    samples = None
+    if grid is not None:
+        k = np.clip(np.searchsorted(knots, extra), 0, len(knots) - 1)
+        if start <= end:
+            sd, se = cum_d[k], cum_e[k]
+        else:   # the stroke runs down: accumulate from the upper end
+            sd, se = cum_d[-1] - cum_d[k], cum_e[-1] - cum_e[k]
+        samples = SlipSamples(extra, sd, se, "continuous")
+    return ContinuousMeasures(*out), samples

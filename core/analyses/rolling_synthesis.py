@@ -24,7 +24,8 @@ from .rolling_geometry import LeverGeometry, PoseState, pose_state, slider_point
 from .rolling_paper import construct
 from .rolling_report import summary as rolling_summary
 from .rolling_slip import (ContinuousMeasures, ExactReference, NaturalSpline, PhysicalSlip, PointMeasures,
-                           continuous_measures, physical_slip, point_measures, reference_for)
+                           SlipSamples, continuous_slip, physical_slip, point_measures, point_slip_samples,
+                           reference_for)
 from .table import Table
 
 COLUMNS = ("theta", "alpha", "F.x", "F.y", "P.x", "P.y", "u1", "P0.x", "P0.y", "u2", "k53", "S5", "Q.x", "Q.y")
@@ -37,6 +38,11 @@ class SlipReport:
     ``refined`` holds the point measures of the same method with 2N intervals (for the paper's
     method this shows the plateau: the kinematic slip does not fall); ``refined_error`` says why
     it is missing when the construction with 2N intervals failed.
+
+    ``samples`` (:class:`~.rolling_slip.SlipSamples`): the slip of pairs D and E accumulated along
+    the stroke at every sample - of the computed motion for the exact method (ending at
+    ``continuous.slip_d``/``slip_e``), of the construction points otherwise (ending at
+    ``points.kinematic_slip``/``kinematic_slip_e``). The slip plots draw these arrays.
     """
 
     points: PointMeasures
@@ -45,6 +51,7 @@ class SlipReport:
     refined: PointMeasures | None
     time_s: float
     refined_error: str | None = None
+    samples: SlipSamples | None = None
 
 
 @dataclass
@@ -225,7 +232,10 @@ def slip_report(res: RollingSynthesis, physical_range: tuple[float, float] | Non
     lo, hi = (None, None) if physical_range is None else physical_range
     ph = physical_slip(geom, res.P, res.theta, res.alpha, lo, hi)
     stroke = res.element.stroke
-    cont = continuous_measures(res.path, stroke.start, stroke.end) if res.method == "exact" else None
+    if res.method == "exact":
+        cont, samples = continuous_slip(res.path, stroke.start, stroke.end, grid=res.theta)
+    else:
+        cont, samples = None, point_slip_samples(geom, res.theta, res.F, res.u1, res.u2, res.S5)
     refined = None
     refined_error = None
     if refine and res.method != "exact":
@@ -236,7 +246,7 @@ def slip_report(res: RollingSynthesis, physical_range: tuple[float, float] | Non
         else:
             refined = point_measures(geom, twice.theta, twice.alpha, twice.F, twice.P, twice.u1, twice.u2,
                                      twice.S5, ref)
-    return SlipReport(pm, ph, cont, refined, time.perf_counter() - t0, refined_error)
+    return SlipReport(pm, ph, cont, refined, time.perf_counter() - t0, refined_error, samples)
 
 
 @dataclass(frozen=True)

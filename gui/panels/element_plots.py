@@ -7,8 +7,11 @@
   pressure. Contact values are NaN outside the engagement, so the lines have gaps there. The CSV
   export is the same table as ``mechsketch analyze SCENE --csv``.
 - Rolling lever, against the lever rotation θ (°): the rocker angle α, k53 = dS5/dθ, the slider
-  travel S5, and the cumulative kinematic slip of pairs D and E. The CSV export is the table of
-  ``mechsketch synthesize SCENE --csv`` with the two slip columns added.
+  travel S5, and the slip of pairs D and E accumulated along the stroke, read from the core's
+  per-sample arrays (``SlipReport.samples``: the computed motion's slip for the exact method, the
+  construction points' kinematic slip otherwise; the last values are the summary's figures - the
+  GUI computes no slip itself). The CSV export is the table of ``mechsketch synthesize SCENE
+  --csv`` with the two slip columns added.
 
 The cursor follows the animation frame through ``frame_x`` (the x of every frame).
 """
@@ -29,7 +32,7 @@ GENEVA_ROWS = (("angle", "wheel angle (°)"), ("omega", "ω (rad/s)"), ("alpha",
                ("jerk", "jerk (rad/s³)"), ("force", "Rn (N)"), ("slip", "slip path (µm)"),
                ("pressure", "p_max (MPa)"))
 ROLLING_ROWS = (("alpha", "rocker α (°)"), ("k53", "k53 (mm/rad)"), ("S5", "S5 (mm)"),
-                ("slip", "kinematic slip (mm)"))
+                ("slip", "slip (mm)"))
 
 
 def _frame_x(controller: SceneController, x: np.ndarray) -> np.ndarray:
@@ -84,15 +87,20 @@ def rolling_plot_data(controller: SceneController, res: RollingResult) -> PlotDa
         Series("alpha", "α", "°", np.degrees(syn.alpha)),
         Series("k53", "k53", "mm/rad", syn.k53),
         Series("S5", "S5", "mm", syn.S5),
-        Series("slip", "slip pair D", "mm", res.slip_d),
-        Series("slip", "slip pair E", "mm", res.slip_e),
     ]
+    slip = res.slip_samples
+    if slip is not None:
+        data.series += [Series("slip", "slip pair D", "mm", slip.slip_d, np.degrees(slip.theta)),
+                        Series("slip", "slip pair E", "mm", slip.slip_e, np.degrees(slip.theta))]
+        data.labels["slip"] = ("slip of the motion (mm)" if slip.source == "continuous"
+                               else "kinematic slip, points (mm)")
     data.frame_x = _frame_x(controller, np.degrees(res.frames.theta))
 
     def table() -> Table:
         base = syn.table()
         cols = {name: base.column(name) for name in base.columns}
-        cols.update({"slip_D": res.slip_d, "slip_E": res.slip_e})
+        if slip is not None:
+            cols.update({"slip_D": slip.slip_d, "slip_E": slip.slip_e})
         return Table.from_columns(cols)
 
     data.make_table = table

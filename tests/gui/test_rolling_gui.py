@@ -146,9 +146,11 @@ def test_plots_show_alpha_k53_s5_and_the_slip_against_theta(shell):
     x, y = plots.curves["k53"].getData()
     assert np.allclose(x, np.degrees(res.theta)) and np.allclose(y, res.k53)
     assert np.allclose(plots.curves["S5"].getData()[1], res.S5)
+    # the slip plot ends at the figure the synthesis reports (the computed motion's slip, ~1e-11 mm
+    # for the exact method), not at a GUI re-derived chord sum (3.8e-5 mm at N = 200)
     slip = plots.curves["slip pair D"].getData()[1]
-    assert slip[-1] == pytest.approx(res.slip.points.kinematic_slip, rel=1e-9)
-    assert plots.curves["slip pair E"].getData()[1][-1] == pytest.approx(res.slip.points.kinematic_slip_e, rel=1e-9)
+    assert slip[-1] == res.slip.continuous.slip_d < 1e-9
+    assert plots.curves["slip pair E"].getData()[1][-1] == res.slip.continuous.slip_e
     fr = c.element_result("press").frames
     c.set_frame(123)
     assert plots.cursor_x() == pytest.approx(math.degrees(fr.theta[123]))
