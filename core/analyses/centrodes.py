@@ -40,6 +40,11 @@ class Centrodes:
     the reference link's frame); ``p`` (N, 2) mm: moving-centrode point in the link's frame;
     ``valid`` (N,) bool: False where the solution is invalid or the relative motion is a pure
     translation or at rest (``translation`` True; then P and p are NaN); ``omega_rel`` (N,) rad/s.
+
+    For drawing each centrode on its own body: ``world`` (N, 2) mm the instant centre in the frame
+    at each sample; the link's frame maps a drawn point x to ``at + Rot(rotation)(x − origin)``
+    (``at`` (N, 2) mm, ``rotation`` (N,) rad, ``origin`` the link's first joint as drawn), and the
+    reference link's likewise (``ref_*``; None relative to the frame).
     """
 
     link: str
@@ -50,6 +55,22 @@ class Centrodes:
     valid: np.ndarray
     omega_rel: np.ndarray
     translation: np.ndarray
+    world: np.ndarray | None = None
+    origin: tuple[float, float] = (0.0, 0.0)
+    at: np.ndarray | None = None
+    rotation: np.ndarray | None = None
+    ref_origin: tuple[float, float] | None = None
+    ref_at: np.ndarray | None = None
+    ref_rotation: np.ndarray | None = None
+
+    def drawable(self, limit: float) -> np.ndarray:
+        """(N,) bool: valid samples whose centres (fixed and moving) lie within ``limit`` mm of
+        the link's reference points - near a translation the centres run off to infinity."""
+        with np.errstate(invalid="ignore"):
+            near_p = np.linalg.norm(self.p - np.asarray(self.origin), axis=1) <= limit
+            ref = np.asarray(self.ref_origin) if self.ref_origin is not None else np.asarray(self.origin)
+            near_P = np.linalg.norm(self.P - ref, axis=1) <= limit
+        return self.valid & near_p & near_P
 
     def table(self) -> Table:
         """CSV table with columns ``input P.x P.y p.x p.y valid`` (rad, mm, 1/0)."""
@@ -107,4 +128,25 @@ def linkage_centrodes(solution, linkage, link: str, relative_to: str | None = No
         Pg = X + _j(v) / np.where(valid, w, np.nan)[:, None]
     p = _unrotate(Pg - X, rho_k) + np.asarray(x0)
     P = Pg if ref_link is None else _unrotate(Pg - Y, rho_l) + np.asarray(y0)
-    return Centrodes(link, relative_to, np.asarray(solution.input, dtype=float), P, p, valid, w, translation)
+    out = Centrodes(link, relative_to, np.asarray(solution.input, dtype=float), P, p, valid, w, translation,
+                    world=Pg, origin=(float(x0[0]), float(x0[1])), at=X, rotation=rho_k)
+    if ref_link is not None:
+        out.ref_origin, out.ref_at, out.ref_rotation = (float(y0[0]), float(y0[1])), Y, rho_l
+    return out
+
+
+def runs(mask: np.ndarray, cyclic: bool = True) -> list[np.ndarray]:
+    """The maximal runs of True in ``mask`` (N,), as index arrays in order; with ``cyclic`` a run
+    through the end continues at the start (one revolution is a closed loop). An all-True mask
+    gives one run of all N indices."""
+    mask = np.asarray(mask, dtype=bool)
+    n = len(mask)
+    if n == 0 or not mask.any():
+        return []
+    if mask.all():
+        return [np.arange(n)]
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], mask.astype(np.int8), [0]])))
+    out = [np.arange(a, b) for a, b in zip(edges[::2], edges[1::2])]
+    if cyclic and len(out) > 1 and mask[0] and mask[-1]:
+        out = [np.concatenate([out[-1], out[0]])] + out[1:-1]
+    return out
