@@ -23,6 +23,8 @@ from __future__ import annotations
 
 import math
 import time
+from dataclasses import dataclass
+from typing import Sequence
 
 import numpy as np
 from PySide6.QtCore import QObject, Qt, QTimer, Signal
@@ -33,6 +35,85 @@ from .canvas.pose import dead_samples, map_frame, nearest_valid
 TICK_MS = 16
 SPEEDS = (0.1, 0.25, 0.5, 1.0, 2.0, 4.0)
 DEAD_POINT_BEHAVIOURS = ("stop", "reverse")
+
+
+@dataclass(frozen=True)
+class Walk:
+    """Where :func:`walk` ended: the frame, the direction then, and why it stopped by itself
+    ("limit", "dead point") or None; ``jumps`` counts the stretches walked (the cost)."""
+
+    frame: int
+    direction: int
+    stopped: str | None
+    jumps: int
+
+
+def _steps_to_next(sorted_idx: np.ndarray, f: int, d: int, n: int) -> int | None:
+    """Steps (1..n) from ``f`` in direction ``d`` round a cycle of ``n`` samples to the nearest
+    index of ``sorted_idx`` (``f`` itself counts only after a whole turn); None if it is empty."""
+    m = len(sorted_idx)
+    if m == 0:
+        return None
+    if d > 0:
+        j = int(sorted_idx[int(np.searchsorted(sorted_idx, f, side="right")) % m])
+        return (j - f) % n or n
+    j = int(sorted_idx[int(np.searchsorted(sorted_idx, f, side="left")) - 1])
+    return (f - j) % n or n
+
+
+def walk(valid: np.ndarray, barriers: Sequence[int], start: int, direction: int, count: int,
+         behaviour: str = "reverse", own: bool = True) -> Walk:
+    """Walk ``count`` samples from the valid sample ``start`` through the valid ones of ``valid``
+    ``(N,)``, round the cycle, as the player does one sample at a time: at the edge of a gap (a
+    limit) and on a dead point of ``barriers`` (other than ``start``) it reverses or stops
+    (``behaviour``). ``own`` False (a step the user asked for in a given direction) stops at a
+    limit without a message and ignores dead points.
+
+    The cost does not depend on ``count``: each stretch between two events is one jump (found by
+    bisection), and once the walk bounces between the same events the rest is taken modulo the
+    bounce period.
+    """
+    valid = np.asarray(valid, dtype=bool)
+    n = len(valid)
+    f, d, remaining = int(start) % n, (1 if direction >= 0 else -1), max(int(count), 0)
+    walls = np.flatnonzero(~valid)
+    bars = np.array(sorted({int(b) % n for b in barriers} - {f}) if own else [], dtype=np.int64)
+    bar_set = set(bars.tolist())
+    seen: dict[tuple[int, int], int] = {}
+    jumps = 0
+    while remaining > 0:
+        jumps += 1
+        to_wall = _steps_to_next(walls, f, d, n)
+        free = None if to_wall is None else to_wall - 1       # steps before the gap
+        to_bar = _steps_to_next(bars, f, d, n)
+        if to_bar is not None and (free is None or to_bar <= free):
+            if remaining < to_bar:
+                break
+            f, remaining = (f + d * to_bar) % n, remaining - to_bar
+            if behaviour == "stop":
+                return Walk(f, d, "dead point", jumps)
+            d = -d
+        elif free is not None and remaining > free:
+            f, remaining = (f + d * free) % n, remaining - free
+            if not own or behaviour == "stop":
+                return Walk(f, d, "limit" if own else None, jumps)
+            d = -d
+            if not valid[(f + d) % n]:
+                return Walk(f, d, "limit", jumps)
+            f, remaining = (f + d) % n, remaining - 1
+            if f in bar_set:
+                if behaviour == "stop":
+                    return Walk(f, d, "dead point", jumps)
+                d = -d
+        else:
+            break
+        key = (f, d)
+        if key in seen:                     # bouncing between the same events: skip whole periods
+            remaining %= seen[key] - remaining
+            seen.clear()
+        else:
+            seen[key] = remaining
+    return Walk((f + d * remaining) % n, d, None, jumps)
 
 
 class AnimationPlayer(QObject):
@@ -254,32 +335,13 @@ class AnimationPlayer(QObject):
             return ctl.frame
         own = direction is None
         d = self._direction if own else (1 if direction >= 0 else -1)
-        start = f
-        for _ in range(int(count)):
-            nxt = (f + d) % n
-            if not valid[nxt]:
-                if not own or not self._edge(f, "limit"):
-                    break
-                d = self._direction
-                nxt = (f + d) % n
-                if not valid[nxt]:
-                    self._stop(f, "limit")
-                    break
-            f = nxt
-            if f in barriers and f != start and own:
-                if not self._edge(f, "dead point"):
-                    break
-                d = self._direction
-        ctl.set_frame(f)
-        return f
-
-    def _edge(self, f: int, what: str) -> bool:
-        """At a limit or dead point: reverse (True: keep going) or stop (False)."""
-        if self._dead == "reverse":
-            self.set_direction(-self._direction)
-            return True
-        self._stop(f, what)
-        return False
+        res = walk(valid, sorted(barriers), f, d, count, self._dead, own)
+        if own and res.direction != self._direction:
+            self.set_direction(res.direction)
+        if res.stopped is not None:
+            self._stop(res.frame, res.stopped)
+        ctl.set_frame(res.frame)
+        return res.frame
 
     def _stop(self, f: int, what: str) -> None:
         self.pause()
