@@ -43,6 +43,8 @@ RELIEF_GRID = 601
 RELIEF_ZOOM = (8, 41)
 #: a point counts as inside the disc only if it is this far inside (relative to A): touching is allowed
 INSIDE_TOL = 1e-12
+#: the default crank bore is this fraction of the locking disc's radius (capped by the relief)
+CRANK_BORE_FRACTION = 0.25
 
 
 def wheel_outline(d: WheelDimensions) -> Contour:
@@ -233,6 +235,17 @@ def relief(d: WheelDimensions, clearance_lock: float) -> Relief:
                   drawn=math.ceil(exact / RELIEF_ROUND - 1e-9) * RELIEF_ROUND)
 
 
+def arm_radii(crank_bore: float, pin: float, roller: float, min_web: float) -> tuple[float, float]:
+    """The crank arm's hub and boss radii (mm): the bore and the pin each with a web of at least
+    ``min_web`` and half their own radius; the boss kept off the roller's radius so that the
+    arm's end arc never lies on the roller's outline."""
+    hub = crank_bore + max(min_web, 0.5 * crank_bore, 0.5 * pin)
+    boss = pin + max(min_web, 0.5 * pin)
+    if abs(boss - roller) <= 0.05 * roller:
+        boss = pin + max(min_web, 0.5 * pin) + 0.1 * roller
+    return hub, boss
+
+
 # -- the assembled geometry --------------------------------------------------------------------
 @dataclass(frozen=True)
 class GenevaGeometry:
@@ -292,15 +305,28 @@ def geometry(element: "Geneva") -> GenevaGeometry:
     rel = relief(d, element.clearance.lock)
     dr = element.drawing
     a = d.center_distance
+    m = element.min_web
     wheel_bore = element.load.journal_radius if dr is None or dr.wheel_bore_radius is None else dr.wheel_bore_radius
     room = a - rel.drawn
-    crank_bore = 0.5 * room if dr is None or dr.crank_bore_radius is None else dr.crank_bore_radius
-    if not crank_bore < room:
-        raise GeometryError(f"geneva {element.id!r}: drawing.crank_bore_radius = {crank_bore:.6g} mm must be "
-                            f"below A − relief radius = {room:.6g} mm, the locking disc's thinnest section "
-                            f"(over by {crank_bore - room:.6g} mm)")
+    if dr is None or dr.crank_bore_radius is None:
+        crank_bore = min(CRANK_BORE_FRACTION * d.lock_disc_radius, room - m)
+        if not crank_bore > 0:
+            raise GeometryError(f"geneva {element.id!r}: no room for a crank bore: the locking disc's relief "
+                                f"(radius {rel.drawn:.6g} mm at {a:.6g} mm) comes within A − relief = {room:.6g} mm "
+                                f"of the crank centre, not more than the minimum web {m:.6g} mm (drawing.min_web); "
+                                "change slots (fewer), center_distance (larger) or roller_radius (smaller)")
+    else:
+        crank_bore = dr.crank_bore_radius
+        if not crank_bore < room - m:
+            raise GeometryError(f"geneva {element.id!r}: drawing.crank_bore_radius = {crank_bore:.6g} mm must be "
+                                f"below A − relief radius − min_web = {room - m:.6g} mm, so that the locking disc "
+                                f"keeps its thinnest section (over by {crank_bore - room + m:.6g} mm)")
+    if not d.lock_disc_radius - crank_bore >= m:
+        raise GeometryError(f"geneva {element.id!r}: the locking disc (radius {d.lock_disc_radius:.6g} mm) keeps "
+                            f"{d.lock_disc_radius - crank_bore:.6g} mm around the crank bore, less than the minimum "
+                            f"web {m:.6g} mm; change drawing.crank_bore_radius or drawing.locking_arc_radius")
     rp = element.roller_radius
-    pin = 0.5 * rp if dr is None or dr.pin_radius is None else dr.pin_radius
+    pin = min(0.5 * rp, rp - m) if dr is None or dr.pin_radius is None else dr.pin_radius
     disc, psi = locking_disc_outline(d.lock_disc_radius, rel.drawn, a)
     margin = d.phi0 + d.lock_half_angle - psi
     if not margin > 0:
@@ -312,7 +338,12 @@ def geometry(element: "Geneva") -> GenevaGeometry:
     crank_holes = (Contour.circle((0.0, 0.0), crank_bore, "bore"),) if crank_bore > 0 else ()
     locking = Part("locking_disc", disc, crank_holes)
     r = d.crank_radius
-    arm = Part("crank_arm", belt_outline(crank_bore + pin, 2 * pin, r),
+    hub, boss = arm_radii(crank_bore, pin, rp, m)
+    if not r - crank_bore - pin >= m:
+        raise GeometryError(f"geneva {element.id!r}: the crank arm keeps {r - crank_bore - pin:.6g} mm between the "
+                            f"crank bore and the roller pin, less than the minimum web {m:.6g} mm; change "
+                            "drawing.crank_bore_radius or drawing.pin_radius")
+    arm = Part("crank_arm", belt_outline(hub, boss, r),
                crank_holes + (Contour.circle((r, 0.0), pin, "pin"),))
     roller = Part("roller", Contour.circle((r, 0.0), rp, "roller"), (Contour.circle((r, 0.0), pin, "pin"),))
     return GenevaGeometry(

@@ -20,6 +20,7 @@ from enum import StrEnum
 from typing import Any
 
 from ..errors import GeometryError, Problem
+from .drawing import DEFAULT_MIN_WEB
 
 SCHEMA = "geneva.schema.json"
 
@@ -156,20 +157,29 @@ class Drawing:
 
     ``locking_arc_radius``: R_arc, default r − 1.5·w. ``wheel_bore_radius``: the hub bore, default
     the journal radius r02. ``crank_bore_radius``: the crank shaft bore of the locking disc and the
-    crank arm, default half the thinnest section of the relieved disc, 0.5·(A − R_relief).
-    ``pin_radius``: the roller pin, default r_p/2.
+    crank arm, default R_L/4 but at most the disc's thinnest section A − R_relief less the
+    minimum web. ``pin_radius``: the roller pin, default r_p/2 but at most r_p less the minimum
+    web. ``min_web``: the thinnest web every part keeps (mm, default
+    :data:`~mechsketch.core.model.drawing.DEFAULT_MIN_WEB`); validation checks it.
     """
 
     locking_arc_radius: float | None = None
     wheel_bore_radius: float | None = None
     crank_bore_radius: float | None = None
     pin_radius: float | None = None
+    min_web: float | None = None
+
+    @property
+    def web(self) -> float:
+        """The minimum web in force (mm)."""
+        return DEFAULT_MIN_WEB if self.min_web is None else self.min_web
 
     def to_dict(self) -> dict:
         return {k: v for k, v in (("locking_arc_radius", self.locking_arc_radius),
                                   ("wheel_bore_radius", self.wheel_bore_radius),
                                   ("crank_bore_radius", self.crank_bore_radius),
-                                  ("pin_radius", self.pin_radius)) if v is not None}
+                                  ("pin_radius", self.pin_radius),
+                                  ("min_web", self.min_web)) if v is not None}
 
 
 @dataclass(frozen=True)
@@ -295,6 +305,11 @@ class Geneva:
                 self.crank_center[1] + self.center_distance * math.sin(d))
 
     @property
+    def min_web(self) -> float:
+        """The thinnest web its parts keep (mm): ``drawing.min_web`` or the default."""
+        return self.drawing.web if self.drawing else DEFAULT_MIN_WEB
+
+    @property
     def model(self) -> ContactModel:
         """The contact-model choices in force (defaults when the scene gives none)."""
         return self.contact_model or ContactModel()
@@ -411,7 +426,7 @@ def parse(data: dict[str, Any], path: str) -> tuple[Geneva | None, list[Problem]
     if "drawing" in data:
         dr = Drawing(**{k: float(v) for k, v in data["drawing"].items()})
         for k, v in dr.to_dict().items():
-            if k == "locking_arc_radius":
+            if k in ("locking_arc_radius", "min_web"):
                 sizes_ok &= ck.positive(f"drawing.{k}", v, "mm")
             else:
                 sizes_ok &= ck.non_negative(f"drawing.{k}", v, "mm")
@@ -453,10 +468,25 @@ def _check_geometry(ck: _Checker, z: int, a: float, rp: float, cl: Clearances, l
     if not dims.lock_disc_radius > 0:
         ck.bad("clearance.lock", f"the locking disc radius R_arc − c_l = {_num(dims.lock_disc_radius)} mm "
                                  f"must be > 0 (clearance.lock is {_num(-dims.lock_disc_radius)} mm too large)")
+    m = dr.web if dr is not None else DEFAULT_MIN_WEB
+    web_note = f"the minimum web {_num(m)} mm (drawing.min_web)"
     if not dims.land_angle > LAND_TOL:
         ck.bad("roller_radius", f"no land between slots: the horn land angle π/z − β_c − γ is "
                                 f"{math.degrees(dims.land_angle):.4g}°, must be > 0° (short by "
                                 f"{-math.degrees(dims.land_angle):.4g}°); reduce roller_radius or clearance.slot")
+    else:
+        horn = dims.crank_radius - dims.w - r_arc
+        if not horn >= m:
+            ck.bad(arc_key, f"the horns are too thin: between slot wall and locking arc r − w − R_arc = "
+                            f"{_num(horn)} mm, below {web_note} by {_num(m - horn)} mm; use a smaller "
+                            "locking_arc_radius, a smaller roller_radius or clearance.slot, or a lower min_web")
+    slot_web = 2.0 * (dims.x_b * math.sin(math.pi / z) - dims.w)
+    if not slot_web >= m:
+        what = "overlap" if slot_web < 0 else "leave too thin a web between them"
+        ck.bad("roller_radius", f"neighbouring slots {what}: their bottoms are 2·(x_b·sin(π/z) − w) = "
+                                f"{_num(slot_web)} mm apart, below {web_note} by {_num(m - slot_web)} mm; "
+                                "reduce roller_radius or clearance.bottom, or use fewer slots or a larger "
+                                "center_distance")
     bore = ld["journal_radius"] if dr is None or dr.wheel_bore_radius is None else dr.wheel_bore_radius
     bore_key = "load.journal_radius" if dr is None or dr.wheel_bore_radius is None else "drawing.wheel_bore_radius"
     if not dims.hub_max > bore:
@@ -464,6 +494,11 @@ def _check_geometry(ck: _Checker, z: int, a: float, rp: float, cl: Clearances, l
                          f"must exceed the wheel bore radius {_num(bore)} mm (short by "
                          f"{_num(bore - dims.hub_max)} mm); reduce roller_radius, clearance.bottom or the "
                          "bore, or increase center_distance")
+    elif not dims.hub_max - bore >= m:
+        ck.bad(bore_key, f"the hub is too thin: the slot bottoms at radius x_b − w = {_num(dims.hub_max)} mm "
+                         f"leave {_num(dims.hub_max - bore)} mm around the wheel bore ({_num(bore)} mm), "
+                         f"below {web_note} by {_num(m - (dims.hub_max - bore))} mm; reduce the bore, "
+                         "roller_radius or clearance.bottom, or increase center_distance")
     lever = a - dims.crank_radius
     fr = ld["journal_friction"] * ld["journal_radius"]
     if not fr < lever:
@@ -472,14 +507,24 @@ def _check_geometry(ck: _Checker, z: int, a: float, rp: float, cl: Clearances, l
     if dr is not None and dr.pin_radius is not None and not dr.pin_radius < rp:
         ck.bad("drawing.pin_radius", f"the roller pin radius {_num(dr.pin_radius)} mm must be below the roller "
                                      f"radius {_num(rp)} mm (over by {_num(dr.pin_radius - rp)} mm)")
+    elif dr is not None and dr.pin_radius is not None and not rp - dr.pin_radius >= m:
+        ck.bad("drawing.pin_radius", f"the roller around its pin (radius {_num(dr.pin_radius)} mm) is "
+                                     f"{_num(rp - dr.pin_radius)} mm thick, below {web_note}")
+    elif not rp > m:
+        ck.bad("roller_radius", f"the roller (radius {_num(rp)} mm) leaves no room for a pin with {web_note}")
+    # necessary bound: the relief is at least R_o + c_l, so the disc's thinnest section is below
+    # A − R_o − c_l; the exact relief is checked when the drive is drawn (mechsketch validate)
+    room = a - dims.outer_radius - cl.lock
     if dr is not None and dr.crank_bore_radius is not None:
-        # necessary bound: the relief is at least R_o + c_l, so the disc's thinnest section is below it
-        room = a - dims.outer_radius - cl.lock
-        if not dr.crank_bore_radius < room:
+        if not dr.crank_bore_radius < room - m:
             ck.bad("drawing.crank_bore_radius", f"the crank bore radius {_num(dr.crank_bore_radius)} mm must be "
-                                                f"below A − R_o − c_l = {_num(room)} mm, the locking disc's "
-                                                f"thinnest section at most (over by "
-                                                f"{_num(dr.crank_bore_radius - room)} mm)")
+                                                f"below A − R_o − c_l − min_web = {_num(room - m)} mm, the locking "
+                                                f"disc's thinnest section at most less {web_note} (over by "
+                                                f"{_num(dr.crank_bore_radius - room + m)} mm)")
+    elif dims.lock_disc_radius > 0 and not room > m:
+        ck.bad("slots", f"no room for a crank bore: the locking disc's relief comes within A − R_o − c_l = "
+                        f"{_num(room)} mm of the crank centre, not more than {web_note}; use fewer slots, a "
+                        "larger center_distance, a smaller roller_radius or clearance.lock")
 
 
 def require_valid(element: Geneva) -> WheelDimensions:

@@ -72,7 +72,8 @@ def test_limits_reported_for_the_default_scene():
     assert round(d.hub_max, 2) == 41.45 and round(d.slot_depth, 2) == 45.15
     assert math.degrees(d.land_angle) == pytest.approx(2.6716, abs=1e-4)
     assert geo.wheel_bore == 15.0 and geo.pin_radius == 4.0
-    assert geo.crank_bore == pytest.approx(0.5 * (100 - geo.relief.drawn))
+    # default crank bore: a quarter of the disc, capped so the disc keeps the minimum web
+    assert geo.crank_bore == pytest.approx(min(0.25 * d.lock_disc_radius, 100 - geo.relief.drawn - 1.0))
     assert 0 < geo.locking_margin < d.phi0 + d.lock_half_angle
     assert geo.relief_half_angle == pytest.approx(d.phi0, abs=math.radians(1))  # "≈ φ0" (notes)
 

@@ -173,7 +173,11 @@ def test_no_hub_around_the_bore():
     assert f"short by {15.0 - hub:.6g} mm" in p.message
     (p,) = problems_of(with_("drawing", {"wheel_bore_radius": 42.0}))
     assert p.path == "$.elements[0].drawing.wheel_bore_radius" and "short by 0.55 mm" in p.message
-    assert scene_from_dict(scene(with_("drawing", {"wheel_bore_radius": 4.0}, el)))[1] == []
+    assert scene_from_dict(scene(with_("drawing", {"wheel_bore_radius": 3.8}, el)))[1] == []
+    # a hub thinner than the minimum web (1 mm by default; drawing.min_web changes it)
+    (p,) = problems_of(with_("drawing", {"wheel_bore_radius": 4.0}, el))
+    assert p.path.endswith("drawing.wheel_bore_radius") and "the hub is too thin" in p.message
+    assert scene_from_dict(scene(with_("drawing", {"wheel_bore_radius": 4.0, "min_web": 0.8}, el)))[1] == []
 
 
 def test_self_locking_journal():
@@ -190,8 +194,8 @@ def test_pin_and_crank_bore_limits():
     (p,) = problems_of(with_("drawing", {"crank_bore_radius": 20.0}))
     assert p.path.endswith("drawing.crank_bore_radius") and "A − R_o − c_l" in p.message
     # inside the necessary bound but beyond the exact relief: caught when the geometry is built
-    g = loads_scene(json.dumps(scene(with_("drawing", {"crank_bore_radius": 12.8})))).element("indexer")
-    with pytest.raises(GeometryError, match=r"crank_bore_radius = 12.8 mm must be below A − relief radius = 12.398"):
+    g = loads_scene(json.dumps(scene(with_("drawing", {"crank_bore_radius": 11.5})))).element("indexer")
+    with pytest.raises(GeometryError, match=r"crank_bore_radius = 11.5 mm must be below A − relief radius − min_web = 11.398"):
         geometry(g)
 
 
