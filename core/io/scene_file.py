@@ -160,6 +160,18 @@ def scene_from_dict(doc: Any, source: str = "scene") -> tuple[Scene | None, list
     return Scene(tuple(elements)), []
 
 
+def element_problems(element: Any) -> list[Problem]:
+    """Every problem the scene reader would find in ``element`` (a record built in code, by an
+    edit or a tool) if it were read from a file: its ``to_dict()`` goes through the same finite
+    check, schema and parser. Empty list: the element is one a file may hold."""
+    try:
+        data = element.to_dict()
+    except (OverflowError, ValueError, TypeError, AttributeError) as exc:
+        return [Problem("$", f"cannot be written to a scene file: {exc}", getattr(element, "id", None))]
+    doc = {"format": FORMAT, "schema_version": SCHEMA_VERSION, "units": "mm", "elements": [data]}
+    return scene_from_dict(doc, f"element {getattr(element, 'id', '?')}")[1]
+
+
 def read_scene_text(path: str | os.PathLike) -> tuple[Any, list[Problem]]:
     """Read and parse a scene file's JSON (size-limited); returns (document, problems)."""
     p = Path(path)

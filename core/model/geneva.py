@@ -20,6 +20,7 @@ from enum import StrEnum
 from typing import Any
 
 from ..errors import GeometryError, Problem
+from .limits import speed_problem
 from .drawing import DEFAULT_MIN_WEB
 
 SCHEMA = "geneva.schema.json"
@@ -398,6 +399,8 @@ def parse(data: dict[str, Any], path: str) -> tuple[Geneva | None, list[Problem]
     speed = float(data.get("speed_rpm", DEFAULT_SPEED_RPM))
     if speed == 0.0:
         ck.bad("speed_rpm", "must not be zero (the sign gives the direction: positive turns the crank CCW)")
+    elif speed_problem(speed) is not None:
+        ck.bad("speed_rpm", speed_problem(speed))
     ld = _sub(data, "load", DEFAULT_LOAD)
     ck.non_negative("load.wheel_inertia", ld["wheel_inertia"], "kg·m²")
     sizes_ok &= ck.non_negative("load.journal_friction", ld["journal_friction"], "")

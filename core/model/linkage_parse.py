@@ -10,6 +10,7 @@ from collections import Counter
 from typing import Any
 
 from ..errors import Problem
+from .limits import speed_problem
 from .linkage import Driver, Joint, JointKind, Link, Linkage
 from .loads_parse import parse_dynamics
 
@@ -111,8 +112,8 @@ def parse(data: dict[str, Any], path: str) -> tuple[Linkage | None, list[Problem
         if not math.isfinite(speed):
             bad("driver.speed_rpm", f"must be a finite number, got {speed}", dd["link"])
             speed = 60.0
-        elif speed == 0.0:
-            bad("driver.speed_rpm", "must not be zero (the sign gives the direction)", dd["link"])
+        elif speed_problem(speed) is not None:
+            bad("driver.speed_rpm", speed_problem(speed), dd["link"])
         if dd["link"] not in link_ids:
             bad("driver.link", f"driver names unknown link {dd['link']!r}", dd["link"])
         elif dd["link"] == ground:

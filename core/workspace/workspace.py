@@ -26,8 +26,8 @@ from typing import Any, Callable, Hashable, Iterable
 
 from pathlib import Path
 
-from ..errors import MechsketchError, UnknownIdError
-from ..io.scene_file import load_scene
+from ..errors import EditError, MechsketchError, UnknownIdError
+from ..io.scene_file import element_problems, load_scene
 from ..model.edits import Edit
 from ..model.linkage import Linkage
 from ..model.scene import Scene
@@ -114,6 +114,7 @@ class Workspace:
         self._by_value: OrderedDict[Hashable, ElementResult | None] = OrderedDict()
         self._requests: OrderedDict[Hashable, Solution] = OrderedDict()
         self._plans: OrderedDict[Linkage, Plan] = OrderedDict()
+        self._valid: OrderedDict[Any, bool] = OrderedDict()   # records the scene reader accepts
         self._structures: OrderedDict[tuple, list] = OrderedDict()   # topology -> Assur groups
         self._preview_base: Scene | None = None
         self._pending: dict[str, ElementChange] = {}
@@ -162,14 +163,46 @@ class Workspace:
 
     def check(self, edit: Edit) -> Scene:
         """The scene ``edit`` would give (the document is not changed); raises MechsketchError
-        (or the edit's own error) when the edit is refused."""
-        return edit.apply_to(self._scene)[0]
+        (or the edit's own error) when the edit is refused, :class:`EditError` with the scene
+        reader's messages when an element it adds or changes could not be read from a file."""
+        new = edit.apply_to(self._scene)[0]
+        self._validate(new)
+        return new
 
     def apply(self, edit: Edit) -> Edit:
-        """Apply ``edit`` for good; return its inverse. The scene is unchanged if it raises."""
+        """Apply ``edit`` for good; return its inverse. The scene is unchanged if it raises
+        (refused as in :meth:`check`)."""
         new, inverse = edit.apply_to(self._scene)
+        self._validate(new)
         self._set(new, preview=False)
         return inverse
+
+    def _validate(self, new: Scene) -> None:
+        """Check the elements of ``new`` that differ from the current scene's with the scene
+        reader (schema, parser): one validation for files and edits alike. Elements found valid
+        are remembered by value, so undo, redo and a pushed pre-check do not check again."""
+        old = {e.id: e for e in self._scene.elements}
+        for el in new.elements:
+            if old.get(el.id) is el:
+                continue
+            try:
+                if el in self._valid:
+                    self._valid.move_to_end(el)
+                    continue
+            except TypeError:   # an unhashable record (not one of ours): check it every time
+                pass
+            problems = element_problems(el)
+            if problems:
+                def text(p) -> str:
+                    tail = p.path.removeprefix("$.elements[0]").lstrip(".") or "element"
+                    who = f" [{p.id}]" if p.id and p.id != el.id else ""
+                    return f"{tail}{who}: {p.message}"
+                raise EditError(f"{getattr(el, 'type', 'element')} {el.id!r}: "
+                                + "; ".join(text(p) for p in problems))
+            try:
+                self._store(self._valid, el, True)
+            except TypeError:
+                pass
 
     def reset(self, scene: Scene) -> None:
         """Replace the whole document (New, Open): not an undoable edit."""

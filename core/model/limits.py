@@ -1,0 +1,26 @@
+"""The physical range of every quantity a scene may hold (the README's scene-file section).
+
+The JSON schemas (resources/schema/*.json) state most of these as ``minimum``/``maximum``; the
+parsers check what a schema cannot say (a signed speed whose magnitude has a lower bound, drawn
+positions with their own message). Values outside are refused with a message naming the key,
+the value and the range, before anything is solved, so no analysis meets an overflow.
+"""
+from __future__ import annotations
+
+#: positions, lengths, radii, clearances, mm (1,000 km)
+MAX_LENGTH_MM = 1e9
+#: driver or crank speed magnitude, rpm: from one turn in about 42 days to a fast spindle
+MIN_RPM = 1e-3
+MAX_RPM = 1e5
+#: drawn angles (slide axes, wheel direction), degrees either way (100 turns)
+MAX_ANGLE_DEG = 36_000.0
+
+
+def speed_problem(speed: float) -> str | None:
+    """The message for a driver speed (rpm, signed) outside the range, or None if it is fine."""
+    if speed == 0.0:
+        return "must not be zero (the sign gives the direction)"
+    if not MIN_RPM <= abs(speed) <= MAX_RPM:
+        return (f"|speed_rpm| must lie from {MIN_RPM:g} to {MAX_RPM:g} rpm (the sign gives the "
+                f"direction); got {speed:g}")
+    return None
