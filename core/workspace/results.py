@@ -323,12 +323,14 @@ def rolling_frame_count(element: RollingLever) -> int:
     return max(2 * int(element.points), ROLLING_MIN_FRAMES)
 
 
-def solve_rolling(element: RollingLever) -> RollingResult:
-    """Synthesise ``element`` (with the slip measures) and precompute its frames and curves."""
+def solve_rolling(element: RollingLever, measures: bool = True) -> RollingResult:
+    """Synthesise ``element`` (with the slip measures unless ``measures`` is False: a drag preview
+    re-synthesises in about 5 ms, the measures take some 50 ms more) and precompute its frames
+    and curves."""
     t0 = time.perf_counter()
     out = RollingResult(element)
     try:
-        res = synthesize(element, measures=True)
+        res = synthesize(element, measures=measures)
         out.frames = _rolling_frames(res, rolling_frame_count(element))
         out.frame_profile = _curve(res.frame_profile(), PROFILE_POINTS)
         out.slider_profile = _curve(res.slider_profile(), PROFILE_POINTS)
@@ -348,13 +350,14 @@ def solve_rolling(element: RollingLever) -> RollingResult:
 ElementResult = Union[LinkageResult, GenevaResult, RollingResult]
 
 
-def solve_element(element, samples: int | None = None) -> ElementResult | None:
+def solve_element(element, samples: int | None = None, measures: bool = True) -> ElementResult | None:
     """The result of any element (``samples`` overrides a linkage's or a Geneva drive's own
-    sample count); None for an element type this version does not solve."""
+    sample count; ``measures`` False skips a rolling lever's slip report, for drag previews);
+    None for an element type this version does not solve."""
     if isinstance(element, Linkage):
         return solve_linkage(element, samples)
     if isinstance(element, Geneva):
         return solve_geneva(element, samples)
     if isinstance(element, RollingLever):
-        return solve_rolling(element)
+        return solve_rolling(element, measures)
     return None

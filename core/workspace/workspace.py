@@ -322,8 +322,8 @@ class Workspace:
             if res is None:
                 plan = self._plan(element)
                 res = solve_linkage(element, samples, plan) if plan is not None else solve_linkage(element, samples)
-        else:
-            res = solve_element(element, samples)
+        else:   # a drag preview (not kept) skips the slow extras (a rolling lever's slip report)
+            res = solve_element(element, samples, measures=keep)
         if res is not None:
             self.stats[f"solve:{res.kind}"] += 1
         if keep:

@@ -117,6 +117,7 @@ class Tool:
     title = "Tool"
     shortcut = ""
     hint = ""
+    in_toolbar = True   # False: made active by a command (e.g. Insert), not from the toolbar
 
     def __init__(self, ctx: ToolContext) -> None:
         self.ctx = ctx
@@ -178,6 +179,10 @@ class Tool:
 
     def on_double(self, ev: CanvasEvent) -> None:
         """A double click arrives after its press/release pair; tools ignore the extra event."""
+
+    def key(self, text: str) -> bool:
+        """A key typed on the canvas (its text, e.g. "6"); True if the tool used it."""
+        return False
 
     # -- helpers ----------------------------------------------------------------------------
     def _joint_hit(self, ev: CanvasEvent, revolute: bool = True) -> Hit | None:

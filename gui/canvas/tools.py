@@ -24,6 +24,7 @@ from mechsketch.core.model.linkage import Linkage
 
 from . import ops
 from .build_tools import CouplerPointTool, CrankTool, GroundPivotTool, RPRTool, RRRTool, SliderTool
+from .geneva_tool import GenevaTool
 from .events import XY, CanvasEvent
 from .items import Overlay
 from .pose import walk_to
@@ -297,4 +298,4 @@ class MeasureTool(Tool):
 
 
 TOOLS: tuple[type[Tool], ...] = (SelectTool, GroundPivotTool, CrankTool, RRRTool, SliderTool, RPRTool,
-                                 CouplerPointTool, DeleteTool, MeasureTool)
+                                 CouplerPointTool, DeleteTool, MeasureTool, GenevaTool)

@@ -33,6 +33,7 @@ from mechsketch.core.workspace import GenevaResult
 from ..selection import ELEMENT
 from .pose import map_frame
 from .events import XY, CanvasEvent, Hit
+from .extras import CanvasExtras
 from .geneva_items import GenevaItem
 from .items import DeadPointItem, LinkageItem, OverlayItem, TraceItem
 from .rolling_items import RollingItem
@@ -155,6 +156,8 @@ class CanvasView(QGraphicsView):
         controller.frameChanged.connect(self._on_frame)
         controller.selectionChanged.connect(self._highlight)
         self._sync()
+        #: handles of selected Geneva drives / rolling levers, View overlays, centrodes (extras.py)
+        self.extras = CanvasExtras(self)
 
     # -- actions ------------------------------------------------------------------------------
     def _make_actions(self) -> None:
@@ -182,8 +185,8 @@ class CanvasView(QGraphicsView):
 
     @property
     def tool_actions(self) -> list[QAction]:
-        """The tool actions in toolbar order."""
-        return list(self.toolbox.actions.values())
+        """The tool actions in toolbar order (tools made active by a command, like Insert, excluded)."""
+        return [a for n, a in self.toolbox.actions.items() if self.toolbox.tools[n].in_toolbar]
 
     def set_tool(self, name: str) -> None:
         self.toolbox.set_tool(name)
@@ -407,6 +410,8 @@ class CanvasView(QGraphicsView):
         for item in self.element_items.values():
             item.set_px(px)
         self._overlay.set_px(px)
+        if hasattr(self, "extras"):
+            self.extras.set_px(px)
         self.viewport().update()
 
     def showEvent(self, event) -> None:  # noqa: N802 - Qt API
@@ -437,8 +442,8 @@ class CanvasView(QGraphicsView):
 
     def dispatch(self, ev: CanvasEvent) -> None:
         """Hand ``ev`` to the active tool and show the result (public for tests and macros)."""
-        tool = self.toolbox.tool
-        if self._select_element(ev):
+        tool = self.extras.handles.route(ev, self.toolbox.tool)   # a press on a handle drags it
+        if tool is self.toolbox.tool and self._select_element(ev):
             return
         tool.handle(ev)
         self._overlay.set_overlay(tool.overlay())
@@ -499,6 +504,7 @@ class CanvasView(QGraphicsView):
         """Abandon what the active tool is doing (a half-placed dyad, a drag)."""
         tool = self.toolbox.tool
         tool.cancel()
+        self.extras.handles.cancel()
         self._overlay.set_overlay(tool.overlay())
         if self._busy:
             self._busy = False
@@ -552,6 +558,8 @@ class CanvasView(QGraphicsView):
             if not e.isAutoRepeat():
                 self._space, self._space_panned = True, False
                 self.setCursor(Qt.CursorShape.OpenHandCursor)
+        elif not e.modifiers() and self.toolbox.tool.key(e.text()):   # e.g. 3-9: Geneva slots
+            self._overlay.set_overlay(self.toolbox.tool.overlay())
         else:
             super().keyPressEvent(e)
 
