@@ -84,10 +84,10 @@ def sheet_document(sheet: Sheet, arcs: str = "bulge"):
     for lb in sheet.labels:
         msp.add_text(lb.text, height=lb.height, dxfattribs={"layer": LABEL_LAYER, "insert": (lb.at[0], lb.at[1])})
     x0, y0, x1, y1 = sheet.bounds
-    doc.header["$EXTMIN"] = (x0, y0, 0.0)
-    doc.header["$EXTMAX"] = (x1, y1, 0.0)
-    doc.header["$LIMMIN"] = (x0, y0)
-    doc.header["$LIMMAX"] = (x1, y1)
+    # ezdxf copies the modelspace's extents and limits into the header when it saves
+    msp.dxf.extmin, msp.dxf.extmax = (x0, y0, 0.0), (x1, y1, 0.0)
+    msp.dxf.limmin, msp.dxf.limmax = (x0, y0), (x1, y1)
+    doc.header["$EXTMIN"], doc.header["$EXTMAX"] = (x0, y0, 0.0), (x1, y1, 0.0)
     return doc
 
 
