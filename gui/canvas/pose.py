@@ -218,12 +218,27 @@ class PoseCache:
 
 # -- picking ---------------------------------------------------------------------------------
 
+def _abs(z: complex) -> float:
+    """|z|, or inf where it overflows (coordinates near the float limit)."""
+    try:
+        return abs(z)
+    except OverflowError:
+        return math.inf
+
+
 def _seg_dist(p: complex, a: complex, b: complex) -> float:
-    d = b - a
-    if abs(d) < 1e-12:
-        return abs(p - a)
-    t = max(0.0, min(1.0, ((p - a) * d.conjugate()).real / abs(d) ** 2))
-    return abs(p - (a + t * d))
+    """Distance (mm) from ``p`` to the segment ``a``–``b``; inf where it overflows (never raises)."""
+    try:
+        d = b - a
+        length = _abs(d)
+        if length < 1e-12:
+            return _abs(p - a)
+        u = d / length                         # no |d|²: far coordinates cannot overflow it
+        t = max(0.0, min(length, ((p - a) * u.conjugate()).real))
+        dist = _abs(p - (a + t * u))
+    except (OverflowError, ZeroDivisionError):
+        return math.inf
+    return dist if math.isfinite(dist) else math.inf
 
 
 def _inside(p: complex, poly: list[complex]) -> bool:
@@ -246,7 +261,7 @@ def link_outline(pose: ElementPose, link_id: str) -> list[complex]:
            and not (lk.joint(j).kind is JointKind.P and slider_roles(lk, j)[0] == link_id)]
     uniq: list[complex] = []
     for p in pts:
-        if all(abs(p - q) > 1e-9 for q in uniq):
+        if all(_abs(p - q) > 1e-9 for q in uniq):
             uniq.append(p)
     if len(uniq) <= 2:
         return uniq
@@ -266,7 +281,7 @@ def pick(poses: Iterable[ElementPose], pos: XY, tol: float) -> Hit | None:
             q = pose.at.get(j.id)
             if q is None:
                 continue
-            d = abs(p - complex(*q)) + (1e-6 * tol if j.kind is JointKind.P else 0.0)
+            d = _abs(p - complex(*q)) + (1e-6 * tol if j.kind is JointKind.P else 0.0)
             if d <= tol and (best is None or d < best[0]):
                 best = (d, Hit(pose.element, "joint", j.id))
     if best is not None:
