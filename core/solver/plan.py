@@ -18,7 +18,7 @@ from ..model.linkage import JointKind, Linkage
 from . import kernels as K
 from .branches import find_branch_points, flip_factor
 from .structure import Group, GroupKind, decompose, mobility
-from .tolerances import TOGGLE_COND, TOUCH_REL
+from .tolerances import SINGULAR_REL, TOGGLE_COND, TOUCH_REL
 
 __all__ = ["TOGGLE_COND", "TOUCH_REL", "Plan", "Solution", "Step", "compile_plan", "unwrap_finite"]
 
@@ -210,12 +210,15 @@ def _compile_step(linkage: Linkage, g: Group) -> Step:
     def touch_tol(size: float) -> float:
         return TOUCH_REL * (size + coord)
 
+    def near_tol(size: float) -> float:
+        return SINGULAR_REL * (size + coord)
+
     scale = 1.0
     if g.kind is GroupKind.RRR:
         m0, h0, l0 = at[g.outer_i], at[g.outer_j], at[g.inner]
         scale = abs(l0 - m0) + abs(l0 - h0)
-        tol = touch_tol(scale)
-        run = lambda s, o, f: K.rrr(s[ki], m0, s[kj], h0, l0, o, f, tol)  # noqa: E731
+        tol, near = touch_tol(scale), near_tol(scale)
+        run = lambda s, o, f: K.rrr(s[ki], m0, s[kj], h0, l0, o, f, tol, near)  # noqa: E731
     elif g.kind is GroupKind.RRP:
         m0, l0 = at[g.outer_i], at[g.inner]
         s0, u0 = _axis(linkage, g.outer_j)
@@ -226,8 +229,8 @@ def _compile_step(linkage: Linkage, g: Group) -> Step:
         m0, h0 = at[g.outer_i], at[g.outer_j]
         _, u0 = _axis(linkage, g.inner)
         scale = abs(m0 - h0)
-        tol = touch_tol(scale)
-        run = lambda s, o, f: K.rpr(s[ki], m0, s[kj], h0, u0, o, f, tol)  # noqa: E731
+        tol, near = touch_tol(scale), near_tol(scale)
+        run = lambda s, o, f: K.rpr(s[ki], m0, s[kj], h0, u0, o, f, tol, near)  # noqa: E731
     elif g.kind is GroupKind.PRP:
         s1, u1 = _axis(linkage, g.outer_i)
         s2, u2 = _axis(linkage, g.outer_j)
@@ -357,6 +360,13 @@ class Solution:
         if joint not in self.plan.reporter:
             raise UnknownIdError(f"linkage {lk.id!r} has no joint {joint!r}")
         return self._state(self.plan.reporter[joint]), _c(lk.joint(joint).at)
+
+    def link_state(self, link: str) -> K.LinkState:
+        """The kernel state of ``link`` (anchor, rotation and their rates: complex/float (N,) or
+        scalars, mm and rad units; see :class:`~mechsketch.core.solver.kernels.LinkState`), for
+        analyses that work on many points of a link at once (the kinetostatics). Raises
+        :class:`UnknownIdError` for a link not solved here."""
+        return self._state(link)
 
     # -- joints and points ----------------------------------------------------------------
     def position(self, joint: str) -> np.ndarray:

@@ -1,0 +1,385 @@
+"""The engine of the kinetostatics: each link's applied and inertia loads, then one closed-form
+pass over the Assur groups from the last back to the driver (see :mod:`.forces` for the
+conventions and the results).
+
+Points and vectors are complex numbers x + iy in mm (arrays (N,) or scalars that broadcast);
+forces complex in N; moments here in N·mm (so that mm arms need no scaling; :mod:`.forces`
+reports N·m). Each link's loads are kept as a resultant force and a moment about its *reference
+point*: the anchor of its kernel state for a moving link, the driver's pivot for the frame.
+Points of a link are handled as their *arm* from that reference (the drawn offset turned by the
+link's rotation), so a moment costs one complex product; arms and their conjugates are computed
+once per call and shared by the friction iterations. Numpy's per-call cost dominates at a few
+thousand samples, so the formulas use few array operations: zeros stay scalars (the frame, a
+crank at constant speed), the moment of an inertia force uses |r|² = const, and the velocity
+terms are left to the lazily computed power balance.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..model.loads import Damper, PointForce, Spring, Torque, default_inertia
+from ..solver.kernels import LinkState, cross
+from ..solver.plan import Plan, Solution
+from ..solver.structure import GroupKind
+
+#: mm -> m (and N·mm -> N·m)
+MM = 1e-3
+
+
+def _c(xy) -> complex:
+    return complex(float(xy[0]), float(xy[1]))
+
+
+def _zero(x) -> bool:
+    """``x`` is a scalar zero (not an array): it need not enter an array operation."""
+    return not isinstance(x, np.ndarray) and x == 0
+
+
+def _add(a, b):
+    return b if _zero(a) else a if _zero(b) else a + b
+
+
+def _sub(a, b):
+    return a if _zero(b) else -b if _zero(a) else a - b
+
+
+@dataclass
+class Pass:
+    """What one pass finds: the driving ``effort`` (N·mm, (N,)); ``pairs`` [(joint, on, by,
+    force)]: the force (N) on link ``on`` from link ``by`` at a revolute joint; ``slides``
+    {joint: (on, force, point, couple)}: a prismatic joint's normal force on ``on`` at ``point``
+    (mm) plus a couple (N·mm); the frame's load ``frame_force`` (N) and ``frame_moment`` (N·mm
+    about the pivot)."""
+
+    effort: object
+    pairs: list
+    slides: dict
+    frame_force: object
+    frame_moment: object
+
+
+class Kinetostatics:
+    """The loads and reactions of ``plan``'s linkage over the samples of ``sol`` (order 2)."""
+
+    def __init__(self, plan: Plan, sol: Solution) -> None:
+        self.plan, self.sol = plan, sol
+        self.lk = lk = plan.linkage
+        self.n = len(sol)
+        self.at = {j.id: _c(j.at) for j in lk.joints}
+        self.ground = lk.ground
+        self.st: dict[str, LinkState] = {k: sol.link_state(k) for k in lk.link_ids}
+        self.pivot = plan.pivot
+        self._arm: dict[tuple[str, complex], object] = {}
+        self._carm: dict[tuple[str, complex], object] = {}
+        self._normal: dict[tuple[str, str], object] = {}
+        #: inertia loads per massive link (force N, moment N·mm about its reference), for the power
+        self.inertia: dict[str, tuple[object, object]] = {}
+
+    # -- link points ------------------------------------------------------------------------
+    def ref(self, k: str):
+        """The reference point of link ``k`` (mm)."""
+        return self.pivot if k == self.ground else self.st[k].A
+
+    def arm(self, k: str, p0: complex):
+        """From the reference of ``k`` to its point drawn at ``p0`` (mm; 0j on the reference)."""
+        key = (k, p0)
+        v = self._arm.get(key)
+        if v is None:
+            if k == self.ground:
+                v = p0 - self.pivot
+            else:
+                st = self.st[k]
+                v = 0j if p0 == st.a0 else st.rot * (p0 - st.a0)
+            self._arm[key] = v
+        return v
+
+    def carm(self, k: str, p0: complex):
+        """conj(arm): cross(arm, f) is ``(carm * f).imag``."""
+        key = (k, p0)
+        v = self._carm.get(key)
+        if v is None:
+            v = self._carm[key] = np.conjugate(self.arm(k, p0))
+        return v
+
+    def point(self, k: str, p0: complex):
+        """Current position (mm) of the point of ``k`` drawn at ``p0``."""
+        return _add(self.ref(k), self.arm(k, p0))
+
+    def normal(self, k: str, joint: str):
+        """The unit normal J·u of prismatic ``joint``'s axis as link ``k`` turns it."""
+        key = (k, joint)
+        v = self._normal.get(key)
+        if v is None:
+            a = math.radians(self.lk.joint(joint).axis_deg or 0.0)
+            v = self._normal[key] = complex(-math.sin(a), math.cos(a)) * self.st[k].rot
+        return v
+
+    def velocity(self, k: str, arm):
+        """Velocity (mm/s) of the point at ``arm`` of link ``k``."""
+        if k == self.ground:
+            return 0j
+        st = self.st[k]
+        return _add(st.vA, 1j * st.omega * arm)
+
+    # -- applied loads ----------------------------------------------------------------------
+    def applied(self) -> tuple[dict, dict]:
+        """Per link the resultant of gravity, inertia and the applied loads: force (complex N)
+        and moment about the link's reference (N·mm). Fills :attr:`inertia`."""
+        lk = self.lk
+        F: dict[str, object] = {k: 0j for k in lk.link_ids}
+        M: dict[str, object] = {k: 0.0 for k in lk.link_ids}
+        g = _c(lk.gravity) if lk.gravity is not None else 0j
+        for m in lk.masses:
+            k = m.link
+            if k == self.ground or (m.mass == 0.0 and not m.inertia):
+                continue
+            st = self.st[k]
+            pts = [self.at[j] for j in lk.link(k).joints]
+            c0 = _c(m.com) if m.com is not None else sum(pts) / len(pts)
+            span = max((abs(p - q) for p in pts for q in pts), default=0.0)
+            inertia = (m.inertia if m.inertia is not None else default_inertia(m.mass, span)) / MM  # kg·m·mm
+            d = c0 - st.a0
+            mk = -m.mass * MM
+            m_in = 0.0 if _zero(st.alpha) else (-inertia) * st.alpha
+            if d != 0:
+                r = st.rot * d                                      # centre of mass from the anchor
+                coef = 1j * st.alpha - st.omega * st.omega
+                acc = _add(st.aA, coef * r)                         # mm/s²
+                rc = r.conjugate()
+                # cross(r, a_c) = cross(r, a_A) + α|r|²: the moment of −m·a_c about the anchor
+                if not _zero(st.aA):
+                    m_in = _add(m_in, mk * (rc * st.aA).imag)
+                if not _zero(st.alpha):
+                    m_in = _add(m_in, (mk * abs(d) ** 2) * st.alpha)
+            else:
+                acc, rc = st.aA, 0j
+            f_in = 0j if _zero(acc) else mk * acc
+            self.inertia[k] = (f_in, m_in)
+            F[k] = _add(F[k], f_in)
+            M[k] = _add(M[k], m_in)
+            if g:
+                F[k] = F[k] + m.mass * g
+                if d != 0:
+                    M[k] = _add(M[k], (rc * (m.mass * g)).imag)
+        for ld in lk.loads:
+            if isinstance(ld, PointForce):
+                f = _c(ld.force)
+                F[ld.link] = F[ld.link] + f
+                if not _zero(self.arm(ld.link, _c(ld.at))):
+                    M[ld.link] = _add(M[ld.link], (self.carm(ld.link, _c(ld.at)) * f).imag)
+            elif isinstance(ld, Torque):
+                M[ld.link] = M[ld.link] + ld.torque / MM
+            elif isinstance(ld, (Spring, Damper)):
+                tension, e, _rate = self.tension(ld)
+                fa = tension * e
+                (a, pa0), (b, pb0) = ((x.link, _c(x.at)) for x in ld.ends)
+                F[a] = _add(F[a], fa)
+                F[b] = _sub(F[b], fa)
+                if not _zero(self.arm(a, pa0)):
+                    M[a] = _add(M[a], (self.carm(a, pa0) * fa).imag)
+                if not _zero(self.arm(b, pb0)):
+                    M[b] = _sub(M[b], (self.carm(b, pb0) * fa).imag)
+        return F, M
+
+    def tension(self, ld: Spring | Damper, rate: bool = False):
+        """(tension N, unit vector from end 0 to end 1, dℓ/dt mm/s or None) of a spring/damper."""
+        (a, pa0), (b, pb0) = ((x.link, _c(x.at)) for x in ld.ends)
+        ra, rb = self.arm(a, pa0), self.arm(b, pb0)
+        d = _sub(self.point(b, pb0), self.point(a, pa0))
+        length = np.abs(d)
+        e = d / length
+        speed = None
+        if rate or isinstance(ld, Damper):
+            dv = _sub(self.velocity(b, rb), self.velocity(a, ra))
+            speed = (dv * np.conjugate(e)).real
+        if isinstance(ld, Spring):
+            return ld.stiffness * (length - ld.rest_length), e, speed
+        return ld.damping * speed, e, speed
+
+    # -- the pass ---------------------------------------------------------------------------
+    def run(self, F0: dict, M0: dict) -> Pass:
+        """Reactions for the link loads ``F0``/``M0`` (not modified), last group first."""
+        F, M = dict(F0), dict(M0)
+        pairs: list = []
+        slides: dict = {}
+        at, arm, carm = self.at, self.arm, self.carm
+
+        def about(k: str, q0: complex):
+            """Moment (N·mm) of link k's loads about its point drawn at q0."""
+            if _zero(arm(k, q0)) or _zero(F[k]):
+                return M[k]
+            return _sub(M[k], (carm(k, q0) * F[k]).imag)
+
+        def about_at(k: str, q):
+            """Moment (N·mm) of link k's loads about the absolute point q (mm)."""
+            return _add(M[k], cross(_sub(self.ref(k), q), F[k]))
+
+        def take(k: str, f, q0: complex) -> None:
+            """Subtract force f at the point of k drawn at q0 (the reaction of a later group)."""
+            F[k] = _sub(F[k], f)
+            if not _zero(arm(k, q0)):
+                M[k] = _sub(M[k], (carm(k, q0) * f).imag)
+
+        def take_at(k: str, f, q, c) -> None:
+            """Subtract force f at the absolute point q (mm) and couple c (N·mm) from link k."""
+            F[k] = _sub(F[k], f)
+            M[k] = _sub(M[k], cross(_sub(q, self.ref(k)), f) + c)
+
+        for step in reversed(self.plan.steps):
+            g = step.group
+            i, j = g.link_i, g.link_j
+            Fi, Fj = F[i], F[j]
+            tot = _add(Fi, Fj)
+            if g.kind is GroupKind.RRR:
+                m0, h0, l0 = at[g.outer_i], at[g.outer_j], at[g.inner]
+                ri, rj = _sub(arm(i, m0), arm(i, l0)), _sub(arm(j, h0), arm(j, l0))
+                b = _sub(about(j, l0), cross(rj, tot))
+                X = (about(i, l0) * rj + b * ri) / (-cross(ri, rj))     # on i at M from known_i
+                Z = _sub(-tot, X) if not _zero(tot) else -X
+                pairs += [(g.outer_i, i, g.known_i, X), (g.outer_j, j, g.known_j, Z),
+                          (g.inner, j, i, _add(X, Fi))]
+                take(g.known_i, X, m0)
+                take(g.known_j, Z, h0)
+            elif g.kind is GroupKind.RRP:
+                m0, l0 = at[g.outer_i], at[g.inner]
+                n = self.normal(j, g.outer_j)
+                ri = _sub(arm(i, m0), arm(i, l0))
+                f = _sub(about(i, l0), cross(ri, tot)) / cross(ri, n) * n
+                X = _sub(-f, tot)
+                pairs += [(g.outer_i, i, g.known_i, X), (g.inner, j, i, _add(X, Fi))]
+                q = self.point(i, l0)
+                c = -about(j, l0)
+                slides[g.outer_j] = (j, f, q, c)
+                take(g.known_i, X, m0)
+                take_at(g.known_j, f, q, c)
+            elif g.kind is GroupKind.RPR:
+                m0, h0 = at[g.outer_i], at[g.outer_j]
+                n = self.normal(i, g.inner)
+                qm = self.point(i, m0)
+                c = about(i, m0)
+                f = _add(c, about(j, h0)) / (-cross(_sub(qm, self.point(j, h0)), n)) * n
+                X, Z = _sub(f, Fi), _sub(-f, Fj)
+                pairs += [(g.outer_i, i, g.known_i, X), (g.outer_j, j, g.known_j, Z)]
+                slides[g.inner] = (j, f, qm, c)
+                take(g.known_i, X, m0)
+                take(g.known_j, Z, h0)
+            elif g.kind is GroupKind.PRP:
+                l0 = at[g.inner]
+                n1, n2 = self.normal(i, g.outer_i), self.normal(j, g.outer_j)
+                det = cross(n1, n2)
+                f1 = cross(n2, tot) / det * n1                   # N1·n1 + N2·n2 = −tot
+                f2 = cross(tot, n1) / det * n2
+                c1, c2 = -about(i, l0), -about(j, l0)
+                q = self.point(i, l0)
+                pairs.append((g.inner, j, i, _add(f1, Fi)))
+                slides[g.outer_i] = (i, f1, q, c1)
+                slides[g.outer_j] = (j, f2, q, c2)
+                take_at(g.known_i, f1, q, c1)
+                take_at(g.known_j, f2, q, c2)
+            else:  # RPP
+                m0 = at[g.outer_i]
+                n1, n2 = self.normal(i, g.inner), self.normal(j, g.outer_j)
+                det = cross(n1, n2)
+                f1 = cross(n2, Fj) / det * n1                    # N1·n1 + N2·n2 = −Fj
+                f2 = cross(Fj, n1) / det * n2
+                c1 = about(i, m0)
+                q = self.point(i, m0)
+                c2 = -_add(c1, about_at(j, q))                   # the pin M is not a point of j
+                X = _sub(f1, Fi)
+                pairs.append((g.outer_i, i, g.known_i, X))
+                slides[g.inner] = (j, f1, q, c1)
+                slides[g.outer_j] = (j, f2, q, c2)
+                take(g.known_i, X, m0)
+                take_at(g.known_j, f2, q, c2)
+        drv = self.lk.driver
+        pv = at[drv.pivot]
+        effort = -about(drv.link, pv)
+        reaction = -F[drv.link]
+        pairs.append((drv.pivot, drv.link, self.ground, reaction))
+        take(self.ground, reaction, pv)
+        M[self.ground] = _sub(M[self.ground], effort)
+        return Pass(effort, pairs, slides, F[self.ground], M[self.ground])
+
+    # -- checks ---------------------------------------------------------------------------
+    def power_terms(self, F: dict, M: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(loads, kinetic, scale), W, (N,): the power of the applied loads on the moving links
+        (their part of ``F``/``M`` that is not inertia), d(kinetic energy)/dt (= −power of the
+        inertia loads) and the sum of the magnitudes of both per link. A load system F, M (about
+        the reference point) on a rigid link has the power F·v_ref + M·ω."""
+        n = self.n
+        loads, kinetic, scale = np.zeros(n), np.zeros(n), np.zeros(n)
+        for k in self.lk.link_ids:
+            if k == self.ground:
+                continue
+            st = self.st[k]
+
+            def power(f, m):
+                p = m * st.omega
+                if not _zero(st.vA):
+                    p = p + (np.conjugate(f) * st.vA).real
+                return MM * p
+
+            total = power(F[k], M[k])
+            if k in self.inertia:
+                p_in = power(*self.inertia[k])
+                kinetic = kinetic - p_in
+                scale = scale + np.abs(p_in)
+                total = total - p_in
+            loads = loads + total
+            scale = scale + np.abs(total)
+        return loads, kinetic, scale
+
+    # -- friction ---------------------------------------------------------------------------
+    def friction_pairs(self) -> list[tuple[str, str, str, float]]:
+        """(joint, first link, other link, friction-circle radius in mm) for every link after the
+        first of each revolute joint with friction."""
+        out = []
+        for fr in self.lk.friction:
+            carriers = self.lk.links_of(fr.joint)
+            out += [(fr.joint, carriers[0], b, fr.radius) for b in carriers[1:]]
+        return out
+
+    def with_friction(self, F: dict, M: dict, first: Pass, tol: float, max_iter: int
+                      ) -> tuple[Pass, dict, dict, int, np.ndarray]:
+        """Iterate the pass with each joint's friction moment ρ·|reaction| (N·mm, against the relative
+        rotation; 0 where it is 0) taken from the previous pass, until the effort and the
+        reactions change by at most ``tol`` relative (or ``max_iter`` passes). Returns the last
+        pass, the moments it was run with (as loads M2, with F), the passes and where it
+        converged ((N,) bool)."""
+        pairs = self.friction_pairs()
+        omega = {k: (0.0 if k == self.ground else self.st[k].omega) for k in self.lk.link_ids}
+        prev, its, M2 = first, 0, dict(M)
+        converged = np.zeros(self.n, dtype=bool)
+        for its in range(1, max_iter + 1):
+            M2 = dict(M)
+            for j, a, b, rho in pairs:
+                c = -rho * np.abs(_pin_force(prev.pairs, j, b)) * np.sign(omega[b] - omega[a])  # on b
+                M2[b] = M2[b] + c
+                M2[a] = M2[a] - c
+            cur = self.run(F, M2)
+            change = np.abs(cur.effort - prev.effort)
+            size = np.abs(cur.effort)
+            for (j, on, _by, f), (_j, _on, _b, f0) in zip(cur.pairs, prev.pairs):
+                change = np.maximum(change, np.abs(f - f0))
+                size = np.maximum(size, np.abs(f))
+            top = float(np.nanmax(size, initial=0.0)) if np.isfinite(size).any() else 0.0
+            converged = change <= tol * top
+            prev = cur
+            if bool(np.all(converged | ~np.isfinite(change))):
+                break
+        return prev, F, M2, its, converged
+
+
+def _pin_force(pairs: list, joint: str, link: str):
+    """The force on ``link`` at revolute ``joint`` from all the others (sum over the pairs)."""
+    total = 0j
+    for j, on, by, f in pairs:
+        if j == joint:
+            if on == link:
+                total = total + f
+            elif by == link:
+                total = total - f
+    return total
