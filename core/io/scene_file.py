@@ -23,8 +23,26 @@ from .atomic import atomic_write_text  # noqa: F401  (re-exported: others import
 #: files larger than this are refused before reading (bytes)
 MAX_FILE_BYTES = 10 * 1024 * 1024
 
+
+def _v1_to_v2(doc: dict) -> dict:
+    """Version 1 -> 2: every linkage driver was a crank at constant speed; version 2 says so
+    (``"kind": "crank"``). Runs before validation, so it touches only what has the expected shape
+    and leaves anything else for the schema to report."""
+    out = dict(doc)
+    elements = doc.get("elements")
+    if isinstance(elements, list):
+        out["elements"] = []
+        for ed in elements:
+            if isinstance(ed, dict) and ed.get("type") == "linkage" and isinstance(ed.get("driver"), dict):
+                ed = dict(ed)
+                ed["driver"] = {"kind": "crank", **ed["driver"]}
+            out["elements"].append(ed)
+    out["schema_version"] = 2
+    return out
+
+
 #: migrations: version v -> function turning a v document into a v+1 document
-MIGRATIONS: dict[int, Callable[[dict], dict]] = {}
+MIGRATIONS: dict[int, Callable[[dict], dict]] = {1: _v1_to_v2}
 
 
 def _schema(name: str) -> dict:
@@ -104,7 +122,8 @@ def _schema_problems(schema: dict, data: Any, base: str, id: str | None) -> list
 
 
 def migrate(doc: dict) -> dict:
-    """Bring a tagged document up to :data:`SCHEMA_VERSION` (v1 is the first: nothing to do)."""
+    """Bring a tagged document up to :data:`SCHEMA_VERSION`, one version at a time (the input is not
+    changed)."""
     version = doc["schema_version"]
     while version < SCHEMA_VERSION:
         doc = MIGRATIONS[version](doc)

@@ -10,6 +10,7 @@ from dataclasses import dataclass, field, replace
 from enum import Enum
 
 from ..errors import UnknownIdError
+from .drivers import LINEAR_KINDS, DriverKind, MotionLaw, input_unit
 from .loads import JointFriction, LinkMass, Load
 
 XYTuple = tuple[float, float]
@@ -58,22 +59,56 @@ class Link:
 
 @dataclass(frozen=True)
 class Driver:
-    """The input crank: a binary link turning about a ground pivot.
+    """The linkage's input (see :mod:`mechsketch.core.model.drivers` for the kinds and laws).
 
-    Positive ``speed_rpm`` turns it counter-clockwise.
+    ``kind`` crank: ``link`` turns about the frame's revolute joint ``pivot`` (input: crank angle,
+    rad). ``kind`` cylinder: ``link`` is the barrel and ``pivot`` the prismatic joint between it
+    and the rod (input: distance between the two end pivots, mm). ``kind`` slider: ``link`` slides
+    on the frame's prismatic joint ``pivot`` (input: displacement along the guide from the drawn
+    position, mm). ``speed_rpm``: cycles per minute (a crank: revolutions; positive turns it
+    counter-clockwise); ``stroke`` (mm, actuators only): the input's (start, end) over a cycle;
+    ``law``: how the input moves over the cycle.
     """
 
     link: str
     pivot: str
     speed_rpm: float = 60.0
+    kind: DriverKind = DriverKind.CRANK
+    stroke: tuple[float, float] | None = None
+    law: MotionLaw = MotionLaw()
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.kind, DriverKind):
+            object.__setattr__(self, "kind", DriverKind(self.kind))
 
     @property
     def omega(self) -> float:
-        """Angular speed in rad/s (signed, CCW positive)."""
+        """Crank: angular speed at constant speed in rad/s (signed, CCW positive); any driver:
+        2π / cycle period, signed as ``speed_rpm``."""
         return self.speed_rpm * 2.0 * math.pi / 60.0
 
+    @property
+    def period(self) -> float:
+        """Seconds per cycle (one crank revolution, one actuator stroke out and back)."""
+        return 60.0 / abs(self.speed_rpm) if self.speed_rpm else math.inf
+
+    @property
+    def linear(self) -> bool:
+        """An actuator (cylinder or slider): the input is a length in mm."""
+        return self.kind in LINEAR_KINDS
+
+    @property
+    def unit(self) -> str:
+        """Unit of the input: ``"rad"`` (crank angle) or ``"mm"`` (actuator length)."""
+        return input_unit(self.kind)
+
     def to_dict(self) -> dict:
-        return {"link": self.link, "pivot": self.pivot, "speed_rpm": self.speed_rpm}
+        d: dict = {"kind": self.kind.value, "link": self.link, "pivot": self.pivot, "speed_rpm": self.speed_rpm}
+        if self.stroke is not None:
+            d["stroke"] = [self.stroke[0], self.stroke[1]]
+        if not self.law.is_constant:
+            d["law"] = self.law.to_dict()
+        return d
 
 
 @dataclass(frozen=True)

@@ -10,13 +10,11 @@ from collections import Counter
 from typing import Any
 
 from ..errors import Problem
-from .limits import speed_problem
-from .linkage import Driver, Joint, JointKind, Link, Linkage
+from .drivers_parse import DRAFT_RPM, parse_driver  # noqa: F401  (DRAFT_RPM re-exported)
+from .linkage import Joint, JointKind, Link, Linkage
 from .loads_parse import parse_dynamics
 
 SCHEMA = "linkage.schema.json"
-#: driver speed given to a draft linkage (saved with "driver": null) until its crank is drawn
-DRAFT_RPM = 60.0
 #: two revolute joints of one link closer than this (mm, relative to the link's own span, at
 #: least 1 mm) coincide
 COINCIDENT_REL = 1e-9
@@ -103,36 +101,7 @@ def parse(data: dict[str, Any], path: str) -> tuple[Linkage | None, list[Problem
     ground = data["ground"]
     if ground not in link_ids:
         bad("ground", f"ground names unknown link {ground!r}", ground)
-    dd = data["driver"]
-    draft = dd is None  # the linkage is being drawn: no crank yet (saved as "driver": null)
-    if draft:
-        dd = {"link": "", "pivot": "", "speed_rpm": DRAFT_RPM}
-    speed = float(dd.get("speed_rpm", 60.0))
-    if not draft:
-        if not math.isfinite(speed):
-            bad("driver.speed_rpm", f"must be a finite number, got {speed}", dd["link"])
-            speed = 60.0
-        elif speed_problem(speed) is not None:
-            bad("driver.speed_rpm", speed_problem(speed), dd["link"])
-        if dd["link"] not in link_ids:
-            bad("driver.link", f"driver names unknown link {dd['link']!r}", dd["link"])
-        elif dd["link"] == ground:
-            bad("driver.link", "the driver cannot be the ground link", dd["link"])
-        else:
-            dl = next(lk for lk in links if lk.id == dd["link"])
-            if len(dl.joints) != 2:
-                bad("driver.link", f"driver {dl.id!r} must be a binary link (two joints), it has "
-                    f"{len(dl.joints)}", dl.id)
-            if dd["pivot"] not in known_joints:
-                bad("driver.pivot", f"driver pivot names unknown joint {dd['pivot']!r}", dd["pivot"])
-            elif dd["pivot"] not in dl.joints:
-                bad("driver.pivot", f"pivot {dd['pivot']!r} is not a joint of driver {dl.id!r}", dd["pivot"])
-            else:
-                pj = joint_by_id.get(dd["pivot"])
-                if pj is not None and pj.kind is not JointKind.R:
-                    bad("driver.pivot", f"pivot {pj.id!r} must be a revolute joint", pj.id)
-                if ground in link_ids and dd["pivot"] not in next(lk for lk in links if lk.id == ground).joints:
-                    bad("driver.pivot", f"pivot {dd['pivot']!r} is not on the ground link {ground!r}", dd["pivot"])
+    driver = parse_driver(data["driver"], bad, links, joint_by_id, ground)
 
     masses, gravity, loads, friction = parse_dynamics(
         data, bad, [lk.id for lk in links], ground)
@@ -140,6 +109,6 @@ def parse(data: dict[str, Any], path: str) -> tuple[Linkage | None, list[Problem
     if problems:
         return None, problems
     linkage = Linkage(eid, tuple(joints), tuple(links), ground,
-                      Driver(dd["link"], dd["pivot"], speed), int(data.get("samples", 360)),
+                      driver, int(data.get("samples", 360)),
                       masses, gravity, loads, friction)
     return linkage, problems

@@ -13,7 +13,9 @@ from typing import Any, Protocol
 from ..errors import UnknownIdError
 
 FORMAT = "mechsketch.scene"
-SCHEMA_VERSION = 1
+#: 2: a linkage's driver states its ``kind`` (crank, cylinder, slider) and may carry a stroke and
+#: a motion law; version 1 files are migrated on reading (core/io/scene_file.py)
+SCHEMA_VERSION = 2
 
 #: element type -> module with ``parse(data: dict, path: str) -> (element | None, [Problem])``
 #: and ``SCHEMA = "<file in mechsketch.resources.schema>"``.

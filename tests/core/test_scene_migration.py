@@ -1,0 +1,91 @@
+"""Scene format version 2: version 1 files (kept as fixtures in tests/fixtures/scenes_v1, copies of
+the examples as they shipped before version 2) load unchanged, re-save as version 2 and load back
+equal; the migration leaves its input alone and leaves malformed documents to the schema."""
+from __future__ import annotations
+
+import copy
+import json
+from pathlib import Path
+
+import pytest
+
+from mechsketch.core import dumps_scene, load_scene, loads_scene, save_scene
+from mechsketch.core.io.scene_file import migrate, scene_from_dict
+from mechsketch.core.model.drivers import DriverKind
+from mechsketch.core.model.scene import SCHEMA_VERSION
+from mechsketch.resources import example_path
+
+V1 = sorted((Path(__file__).parent.parent / "fixtures" / "scenes_v1").glob("*.json"))
+
+
+def test_there_are_version_1_fixtures():
+    assert len(V1) >= 11
+    assert SCHEMA_VERSION == 2
+
+
+@pytest.mark.parametrize("path", V1, ids=lambda p: p.stem)
+def test_a_version_1_file_loads_resaves_as_version_2_and_loads_back_equal(tmp_path, path):
+    raw = json.loads(path.read_text(encoding="utf-8"))
+    assert raw["schema_version"] == 1
+    scene = load_scene(path)
+    out = tmp_path / path.name
+    save_scene(scene, out)
+    doc = json.loads(out.read_text(encoding="utf-8"))
+    assert doc["schema_version"] == 2
+    for ed, old in zip(doc["elements"], raw["elements"]):
+        if ed["type"] == "linkage":
+            assert ed["driver"]["kind"] == "crank"
+            assert {k: v for k, v in ed["driver"].items() if k != "kind"} == old["driver"]
+            assert ed["joints"] == old["joints"] and ed["links"] == old["links"]
+        else:
+            assert ed == old
+    again = load_scene(out)
+    assert again == scene
+    assert dumps_scene(again) == out.read_text(encoding="utf-8")
+
+
+@pytest.mark.parametrize("path", V1, ids=lambda p: p.stem)
+def test_the_shipped_example_is_the_version_1_file_migrated(path):
+    """The examples in resources/ (version 2) hold what their version 1 files held."""
+    assert load_scene(example_path(path.stem)) == load_scene(path)
+
+
+def test_every_version_1_linkage_is_a_constant_speed_crank():
+    for path in V1:
+        for el in load_scene(path).elements:
+            if el.type == "linkage":
+                assert el.driver.kind is DriverKind.CRANK and el.driver.law.is_constant
+                assert el.driver.stroke is None
+
+
+def test_migration_does_not_change_its_input():
+    doc = json.loads(V1[0].read_text(encoding="utf-8"))
+    before = copy.deepcopy(doc)
+    out = migrate(doc)
+    assert doc == before
+    assert out["schema_version"] == 2
+
+
+@pytest.mark.parametrize("elements", [
+    "not a list", [1, 2], [{"type": "linkage", "driver": "crank"}], [{"type": "linkage"}],
+    [{"type": "linkage", "id": "x", "driver": None}],
+], ids=["string", "numbers", "driver-string", "no-driver", "null-driver"])
+def test_a_malformed_version_1_document_gets_problems_not_a_traceback(elements):
+    doc = {"format": "mechsketch.scene", "schema_version": 1, "units": "mm", "elements": elements}
+    scene, problems = scene_from_dict(doc)
+    assert scene is None and problems
+    assert all(p.path.startswith("$") for p in problems)
+
+
+def test_a_version_2_driver_must_say_its_kind():
+    doc = json.loads(example_path("fourbar_crank_rocker").read_text(encoding="utf-8"))
+    doc = migrate(doc)
+    del doc["elements"][0]["driver"]["kind"]
+    scene, problems = scene_from_dict(doc)
+    assert scene is None
+    assert any(p.path == "$.elements[0].driver" and "'kind' is a required property" in p.message for p in problems)
+
+
+def test_a_version_2_text_round_trips():
+    scene = load_scene(example_path("sixbar_moving_guide"))
+    assert loads_scene(dumps_scene(scene)) == scene
