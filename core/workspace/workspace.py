@@ -26,7 +26,8 @@ from typing import Any, Callable, Hashable, Iterable
 
 from pathlib import Path
 
-from ..errors import EditError, MechsketchError, UnknownIdError
+from ..analyses.forces import ForceResult, linkage_forces
+from ..errors import EditError, MechsketchError, RequestError, UnknownIdError
 from ..io.scene_file import element_problems, load_scene
 from ..model.edits import Edit
 from ..model.linkage import Linkage
@@ -34,7 +35,7 @@ from ..model.scene import Scene
 from ..solver.incremental import moved_joints, resweep, topology_key
 from ..solver.plan import Plan, Solution, compile_plan
 from .facade import ElementView
-from .results import ElementResult, LinkageResult, solve_element, solve_linkage
+from .results import ElementResult, LinkageResult, RollingResult, solve_element, solve_linkage
 
 #: results kept by value beyond the current ones (undo/redo, pre-checks of edits, requests)
 CACHE_SIZE = 32
@@ -113,6 +114,7 @@ class Workspace:
         self._current: dict[str, tuple[Any, ElementResult | None]] = {}   # id -> (element, result)
         self._by_value: OrderedDict[Hashable, ElementResult | None] = OrderedDict()
         self._requests: OrderedDict[Hashable, Solution] = OrderedDict()
+        self._forces: OrderedDict[Hashable, ForceResult] = OrderedDict()
         self._plans: OrderedDict[Linkage, Plan] = OrderedDict()
         self._valid: OrderedDict[Any, bool] = OrderedDict()   # records the scene reader accepts
         self._structures: OrderedDict[tuple, list] = OrderedDict()   # topology -> Assur groups
@@ -282,7 +284,12 @@ class Workspace:
         if hit is not None and hit[0] is el:
             if element_id in self._unkept and not self.previewing:   # a preview that became final
                 self._unkept.discard(element_id)
-                self._store(self._by_value, (el, self._samples_for(el)), hit[1])
+                res = hit[1]
+                if isinstance(res, RollingResult) and res.synthesis is not None and res.synthesis.slip is None:
+                    res = self.result_of(el)   # the preview skipped the slip report: solve in full
+                    self._current[element_id] = (el, res)
+                    return res
+                self._store(self._by_value, (el, self._samples_for(el)), res)
             return hit[1]
         # drag previews are not kept by value: a long drag would push out what undo needs
         keep = not self.previewing
@@ -406,6 +413,26 @@ class Workspace:
         self.stats["solve:request"] += 1
         self._store(self._requests, key, sol)
         return sol
+
+    def forces(self, element_id: str, samples: int | None = None) -> ForceResult:
+        """The kinetostatics of a linkage over one driver revolution (computed when first asked,
+        then cached by element value and N): driving torque, joint reactions, shaking force and
+        moment, the power balance, and the result with joint friction when the scene has any
+        (see :mod:`mechsketch.core.analyses.forces`; SI units). ``samples`` as for :meth:`solve`.
+        Raises the core's error when the linkage cannot be solved."""
+        el = self.element(element_id)
+        if not isinstance(el, Linkage):
+            raise RequestError(f"element {element_id!r} is a {el.type}: forces apply to linkages")
+        n = samples or self._samples or el.samples
+        key = (el, n)
+        if key in self._forces:
+            self._forces.move_to_end(key)
+            return self._forces[key]
+        sol = self.solve(element_id, samples=n, order=2)
+        res = linkage_forces(sol.plan, sol)
+        self.stats["forces"] += 1
+        self._store(self._forces, key, res)
+        return res
 
     def check_element(self, element: Any) -> str | None:
         """Solve ``element`` (a candidate, not yet in the scene) as the workspace would; the

@@ -17,7 +17,8 @@ class ToolBox(QObject):
     """One instance of each tool, with an exclusive QActionGroup.
 
     ``actions``: name -> QAction, in toolbar order: select (S), ground (G), crank (C), rrr (R),
-    rrp (P), rpr (I), coupler (K), delete (D), measure (M).
+    rrp (P), rpr (I), coupler (K), delete (D), measure (M), geneva (W), rolling (O), prp (Y),
+    rpp (X), and insert (made active by Examples -> Insert, not shown in the toolbar).
     """
 
     toolChanged = Signal(str)

@@ -25,6 +25,9 @@ from mechsketch.core.model.linkage import Linkage
 from . import ops
 from .build_tools import CouplerPointTool, CrankTool, GroundPivotTool, RPRTool, RRRTool, SliderTool
 from .geneva_tool import GenevaTool
+from .insert_tool import InsertTool
+from .rolling_tool import RollingTool
+from .slider_tools import PRPTool, RPPTool
 from .events import XY, CanvasEvent
 from .items import Overlay
 from .pose import walk_to
@@ -298,4 +301,5 @@ class MeasureTool(Tool):
 
 
 TOOLS: tuple[type[Tool], ...] = (SelectTool, GroundPivotTool, CrankTool, RRRTool, SliderTool, RPRTool,
-                                 CouplerPointTool, DeleteTool, MeasureTool, GenevaTool)
+                                 CouplerPointTool, DeleteTool, MeasureTool, GenevaTool, RollingTool, PRPTool,
+                                 RPPTool, InsertTool)
