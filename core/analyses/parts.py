@@ -28,6 +28,7 @@ from typing import Iterable, Sequence
 
 import numpy as np
 import shapely
+from shapely.validation import explain_validity
 
 from ..errors import GeometryError
 from .geneva_contour import Contour
@@ -170,8 +171,8 @@ def is_circle(c: Contour) -> tuple[tuple[float, float], float] | None:
         return None
     if abs(abs(sg.theta[1]) - math.pi) > 1e-12:
         return None
-    cen = sg.centre[0]
-    return (float(cen[0]), float(cen[1])), float(sg.radius[0])
+    cen = 0.5 * (sg.p0[0] + sg.p1[0])  # the diameter's midpoint: exact where tan(π/2) is not
+    return (float(cen[0]), float(cen[1])), 0.5 * float(np.hypot(*(sg.p1[0] - sg.p0[0])))
 
 
 # -- records ------------------------------------------------------------------------------
@@ -456,12 +457,12 @@ def check_part(part: Part, min_web: float = DEFAULT_MIN_WEB, tol: float = CHECK_
         ring = _ring(c, tol)
         if not ring.is_simple:
             what = "the outline" if (part.outer is not None and i == 0) else "a hole"
-            problems.append(f"{what} intersects itself ({shapely.validation.explain_validity(shapely.Polygon(ring))})")
+            problems.append(f"{what} intersects itself ({explain_validity(shapely.Polygon(ring))})")
     if not problems:
         if part.outer is not None:
             poly = part.polygon(tol)
             if not poly.is_valid:
-                problems.append(f"not a valid outline with holes: {shapely.validation.explain_validity(poly)}")
+                problems.append(f"not a valid outline with holes: {explain_validity(poly)}")
         else:
             holes = [shapely.Polygon(h.polyline(tol)) for h in part.holes]
             for i in range(len(holes)):

@@ -1,0 +1,202 @@
+"""Linkage plates read back from DXF and SVG: the four-bar's hole-centre distances equal its link
+lengths, every slot holds its block over the whole cycle (checked by re-solving the linkage
+independently at 20 000 crank angles), coupler curves within their tolerance of the solved path,
+sizes that cannot make a plate refused naming the option, every linkage example exports."""
+from __future__ import annotations
+
+import math
+
+import ezdxf
+import numpy as np
+import pytest
+import shapely
+
+from mechsketch import resources
+from mechsketch.core import GeometryError, load_scene
+from mechsketch.core.analyses.parts import check_part, disc_hull, lay_out
+from mechsketch.core.analyses.parts_linkage import LinkageStyle, linkage_parts, travels
+from mechsketch.core.io.export_parts import export_parts
+from mechsketch.core.solver.plan import compile_plan
+
+from parts_readback import FLAT, dxf_parts, svg_parts
+
+LINKAGES = ["fourbar_crank_rocker", "fourbar_coupler_centrodes", "double_rocker", "slider_crank_offset",
+            "inverted_slider_crank", "sixbar_moving_guide"]
+
+
+def example(name):
+    return load_scene(resources.example_path(name)).elements[0]
+
+
+def circles(path):
+    """Per layer, the CIRCLE centres and radii read back."""
+    out = {}
+    for e in ezdxf.readfile(path).modelspace().query("CIRCLE"):
+        out.setdefault(e.dxf.layer, []).append((np.array([e.dxf.center.x, e.dxf.center.y]), e.dxf.radius))
+    return out
+
+
+@pytest.mark.parametrize("layout", ["assembled", "apart"])
+def test_fourbar_plates_have_hole_centre_distances_equal_to_the_link_lengths(tmp_path, layout):
+    lk = example("fourbar_crank_rocker")
+    ps = linkage_parts(lk, compile_plan(lk))
+    path = tmp_path / "fourbar.dxf"
+    export_parts(ps, path, layout=layout)
+    holes = circles(path)
+    if layout == "assembled":
+        # in place: every joint's bore centred exactly on its drawn position; stacked links share
+        # one bore at a joint (drawn once), so each joint has exactly one circle
+        pool = [c for v in holes.values() for c, _ in v]
+        for j in lk.joints:
+            assert sum(np.hypot(*(c - j.at)) <= 1e-13 * 200 for c in pool) == 1, j.id
+        return
+    for link in lk.links:
+        got = holes[link.id]
+        assert len(got) == len(link.joints)
+        dists = [np.hypot(*(p - q)) for k, (p, _) in enumerate(got) for q, _ in got[k + 1:]]
+        for i, a in enumerate(link.joints):
+            for b in link.joints[i + 1:]:
+                length = math.dist(lk.joint(a).at, lk.joint(b).at)
+                assert min(abs(d - length) for d in dists) <= 1e-12 * length, (link.id, a, b)
+
+
+def test_plate_outlines_are_stadiums_and_rounded_hulls_with_the_stated_areas(tmp_path):
+    lk = example("fourbar_crank_rocker")
+    ps = linkage_parts(lk, compile_plan(lk), LinkageStyle(boss_radius=10.0, bore_diameter=8.0))
+    export_parts(ps, tmp_path / "p.dxf", layout="apart")
+    _, parts = dxf_parts(tmp_path / "p.dxf")
+    for link in lk.links:
+        pts = [shapely.Point(*lk.joint(j).at) for j in link.joints]
+        # independent: the union of the boss discs' convex hull, less the bores
+        hull = shapely.union_all([p.buffer(10.0, quad_segs=4096) for p in pts]).convex_hull
+        ref = hull.area - len(pts) * math.pi * 16.0
+        poly = parts[link.id]
+        assert poly.is_valid and len(poly.interiors) == len(pts)
+        assert poly.area == pytest.approx(ref, abs=perimeter(poly) * 2 * FLAT + 1e-3)
+        web = check_part(next(p for p in ps.parts if p.name == link.id)).web
+        assert web == pytest.approx(6.0, abs=2e-4)  # boss 10 − bore 4
+
+
+def perimeter(poly):
+    return poly.exterior.length + sum(r.length for r in poly.interiors)
+
+
+@pytest.mark.parametrize("name", ["slider_crank_offset", "inverted_slider_crank", "sixbar_moving_guide"])
+def test_every_slot_holds_its_block_over_the_whole_cycle(name):
+    """Re-solve at 20 000 angles: the block, moved by the slide, stays inside its slot."""
+    lk = example(name)
+    plan = compile_plan(lk)
+    style = LinkageStyle()
+    ps = linkage_parts(lk, plan, style)
+    sol = plan.sweep(20000, order=0)
+    for t in travels(plan):
+        g = next(g for g in sol.groups if t.joint in g.joints)
+        dy = sol.group_output(g.name)
+        idx = 1 if (g.kind == "PRP" and t.joint == g.outer_j) or (g.kind == "RPP" and t.joint == g.outer_j) else 0
+        s = dy.slides[idx].s[dy.ok]
+        assert t.s_min <= s.min() + 1e-9 and t.s_max >= s.max() - 1e-9
+        assert t.s_min == pytest.approx(s.min(), abs=1e-6) and t.s_max == pytest.approx(s.max(), abs=1e-6)
+        # the slot (its own plate or a hole of the guide link) contains the block at both ends
+        holder = [p for p in ps.parts if p.name in (t.guide, f"{t.guide}_guide_{t.joint}")]
+        slot = next(shapely.Polygon(h.polyline(1e-4)) for p in holder for h in p.holes if h.kinds[0] == "slot")
+        block = next(p for p in ps.parts if p.name == t.slider).outer
+        u = np.array(t.axis)
+        for s_end in (s.min(), s.max()):
+            moved = shapely.Polygon(block.polyline(1e-4) + s_end * u)
+            assert slot.contains(moved)
+
+
+def test_slider_crank_stroke_against_its_closed_form():
+    lk = example("slider_crank_offset")
+    (t,) = travels(compile_plan(lk))
+    r, e = 40.0, 20.0
+    rod = math.dist(lk.joint("B").at, lk.joint("C").at)
+    x0 = lk.joint("S").at[0]
+    assert t.s_max == pytest.approx(math.sqrt((rod + r) ** 2 - e * e) - x0, abs=1e-9)
+    assert t.s_min == pytest.approx(math.sqrt((rod - r) ** 2 - e * e) - x0, abs=1e-9)
+
+
+def test_coupler_curve_is_within_its_tolerance_of_the_solved_path(tmp_path):
+    lk = example("fourbar_crank_rocker")
+    plan = compile_plan(lk)
+    ps = linkage_parts(lk, plan, LinkageStyle(tolerance=0.005))
+    (curve,) = ps.curves
+    assert curve.name == "E" and curve.closed and curve.deviation <= 0.005
+    export_parts(ps, tmp_path / "c.dxf", layout="assembled")
+    doc = ezdxf.readfile(tmp_path / "c.dxf")
+    (pl,) = doc.modelspace().query('LWPOLYLINE[layer=="trace_E"]')
+    assert pl.closed
+    from parts_readback import _lwpolyline_ring  # the same decoding as the parts
+    ring = shapely.LinearRing(_lwpolyline_ring(pl))
+    path = plan.sweep(5000, order=0).position("E")
+    d = shapely.distance(ring, shapely.points(path))
+    assert d.max() <= 0.005 + 2 * FLAT
+
+
+def test_frame_as_a_drilling_pattern_and_dog_bone_links(tmp_path):
+    lk = example("fourbar_crank_rocker")
+    ps = linkage_parts(lk, compile_plan(lk), LinkageStyle(frame="drill", boss_radius=12.0, width=12.0))
+    ground = next(p for p in ps.parts if p.name == "ground")
+    assert ground.outer is None and len(ground.holes) == 2
+    for fmt in ("dxf", "svg"):
+        path = tmp_path / f"d.{fmt}"
+        export_parts(ps, path, fmt=fmt, layout="apart", arcs="entities")
+    crank = next(p for p in ps.parts if p.name == "crank")
+    # dog-bone: bar 12 wide between bosses of radius 12: bar length L − 2·e, e = √(12² − 6²)
+    L = math.dist(lk.joint("A").at, lk.joint("B").at)
+    sg = crank.outer.segments()
+    assert sg.length[0] == pytest.approx(L - 2 * math.sqrt(144 - 36), rel=1e-12)
+    assert check_part(crank).web == pytest.approx(min(12.0, 12.0 - 0.4 * 12.0), abs=2e-4)
+
+
+@pytest.mark.parametrize("style, message", [
+    (LinkageStyle(boss_radius=5.0, bore_diameter=12.0), "--bore-diameter"),
+    (LinkageStyle(boss_radius=5.0, width=14.0), "--link-width"),
+    (LinkageStyle(boss_radius=-1.0), "--boss-radius"),
+    (LinkageStyle(frame="glued"), "frame must be one of plate, drill"),
+])
+def test_sizes_that_cannot_make_a_plate_are_refused_naming_the_option(style, message):
+    lk = example("fourbar_crank_rocker")
+    with pytest.raises(GeometryError, match=message):
+        linkage_parts(lk, compile_plan(lk), style)
+
+
+def test_a_web_below_the_minimum_is_refused_before_anything_is_written(tmp_path):
+    lk = example("fourbar_crank_rocker")
+    ps = linkage_parts(lk, compile_plan(lk), LinkageStyle(boss_radius=5.0, bore_diameter=9.6))
+    with pytest.raises(GeometryError, match=r"part 'ground': thinnest web 0.1999 mm.*--boss-radius"):
+        export_parts(ps, tmp_path / "x.dxf", min_web=1.0)
+    assert not (tmp_path / "x.dxf").exists()
+    export_parts(ps, tmp_path / "x.dxf", min_web=0.1)
+
+
+@pytest.mark.parametrize("name", LINKAGES)
+def test_every_linkage_example_exports_closed_valid_parts(tmp_path, name):
+    lk = example(name)
+    ps = linkage_parts(lk, compile_plan(lk))
+    for fmt, arcs in (("dxf", "bulge"), ("dxf", "entities"), ("svg", "bulge")):
+        path = tmp_path / f"{name}_{arcs}.{fmt}"
+        exp = export_parts(ps, path, fmt=fmt, arcs=arcs)
+        parts = (svg_parts if fmt == "svg" else dxf_parts)(path)[1]
+        assert set(parts) == set(ps.names)
+        for p, part in zip(exp.checks, ps.parts):
+            poly = parts[part.name]
+            assert poly.is_valid and len(poly.interiors) == len(part.holes)
+            assert poly.area == pytest.approx(p.area, abs=perimeter(poly) * FLAT)
+        polys = list(parts.values())
+        assert all(polys[i].distance(polys[j]) > 1.0 for i in range(len(polys)) for j in range(i + 1, len(polys)))
+
+
+def test_disc_hull_against_shapely():
+    rng = np.random.default_rng(7)
+    for _ in range(20):
+        c = rng.uniform(-50, 50, (5, 2))
+        r = rng.uniform(0, 15, 5)
+        r[0] = 0.0
+        hull = disc_hull(c, r)
+        ref = shapely.union_all([shapely.Point(*p).buffer(max(q, 1e-9), quad_segs=4096) for p, q in zip(c, r)]).convex_hull
+        poly = shapely.Polygon(hull.polyline(1e-5))
+        assert poly.is_valid and hull.area() > 0
+        assert poly.area == pytest.approx(ref.area, rel=1e-5)
+        assert poly.symmetric_difference(ref).area < 1e-3 * ref.length
+    lay_out  # noqa: B018 - imported for the apart layout used above
