@@ -113,10 +113,10 @@ class PRPTool(_GuideTool):
     def _why(self, g2: tuple[str, XY]) -> str | None:
         (g1, a), (g2id, b) = self._guides[0], g2
         lk = self.ctx.linkage(self._el)
-        if g1 == g2id:
-            return f"both guides are on {g1}: the pin would be fixed to it; put guide 2 on another link"
         if g1 == lk.ground and g2id == lk.ground:
             return "both guides are on the frame: the pin could not move; put one on a moving link"
+        if g1 == g2id:
+            return f"both guides are on {g1}: the pin would be fixed to it; put guide 2 on another link"
         if ops.sin_angle(self._pin, a, b) < ops.COLLINEAR_SIN:
             return "the two guides are parallel: the blocks could slide without end; turn one"
         return None
