@@ -67,7 +67,9 @@ def _xy(z, n: int) -> np.ndarray:
 
 
 def _arr(x, n: int) -> np.ndarray:
-    """A float (N,) array of ``x`` (a scalar broadcasts)."""
+    """A float (N,) array of ``x`` (a scalar broadcasts; an (N,) float array is returned as is)."""
+    if isinstance(x, np.ndarray) and x.shape == (n,) and x.dtype == np.float64:
+        return x
     return np.array(np.broadcast_to(np.asarray(x, dtype=float), (n,)))
 
 
@@ -281,20 +283,17 @@ def _views(ks: Kinetostatics, p: Pass, valid: np.ndarray, all_valid: bool
 
     pins: dict[str, dict[str, np.ndarray]] = {}
     slides: dict[str, SlideReaction] = {}
-    multi = {j.id for j in lk.joints if len(lk.links_of(j.id)) > 2}
-    direct: dict[tuple[str, str], object] = {}
-    for j, on, by, f in p.pairs:
-        if j in multi:
-            continue
-        direct[(j, on)] = f
-        direct[(j, by)] = -f
+    single = {j: (on, f) for j, on, _by, f in p.pairs}   # the one pair of a two-link joint
     for j in lk.joints:
         carriers = lk.links_of(j.id)
         if len(carriers) < 2:
             continue
         if j.kind is JointKind.R:
-            pins[j.id] = {b: xy(direct[(j.id, b)] if j.id not in multi else _pin_force(p.pairs, j.id, b))
-                          for b in carriers[1:]}
+            if len(carriers) == 2:
+                on, f = single[j.id]
+                pins[j.id] = {carriers[1]: xy(f if on == carriers[1] else -f)}
+            else:
+                pins[j.id] = {b: xy(_pin_force(p.pairs, j.id, b)) for b in carriers[1:]}
         elif j.id in p.slides:
             on, f, q, c = p.slides[j.id]
             by, later = carriers
@@ -326,11 +325,15 @@ def linkage_forces(plan: Plan, sol: Solution) -> ForceResult:
         raise RequestError(f"forces need a solve with order 2 (accelerations); this one has order {sol.order}")
     if len(sol.groups) != len(plan.steps):
         raise RequestError("forces need every group solved: solve without a joints filter")
+    kind = str(getattr(plan.linkage.driver, "kind", "crank"))
+    if kind != "crank":
+        raise RequestError(f"forces of a linkage driven by a {kind} are not computed yet (its effort "
+                           "would be a force, driver.force): drive it with a crank")
     start = time.perf_counter()
     ks = Kinetostatics(plan, sol)
     n = ks.n
     drv = ks.lk.driver.link
-    w = sol.omega_driver
+    w = ks.st[drv].omega          # the driver's speed (rad/s; an array under a motion law)
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
         F, M = ks.applied()
         p = ks.run(F, M)

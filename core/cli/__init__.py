@@ -76,6 +76,9 @@ def build_parser() -> argparse.ArgumentParser:
     a.add_argument("--samples", type=int, metavar="N")
     a.add_argument("--csv", metavar="PATH|-")
     a.add_argument("--summary", action="store_true")
+    a.add_argument("--forces", action="store_true",
+                   help="add the driving torque, joint reactions and shaking force/moment (N, N·m) "
+                        "to the table and the summary")
     v = sub.add_parser("validate", help="list the problems of a scene file; exit 0 when there are none")
     v.add_argument("scene")
     e = sub.add_parser("export", help="write the manufacturable outline of an element as DXF (mm)")
@@ -134,7 +137,7 @@ def run(args: argparse.Namespace) -> int:
             raise CliError(f"--samples must be from 2 to {MAX_SAMPLES:,}, got {args.samples:,}")
         el = _pick(scene, args.element, "analyze")
         ws.samples = args.samples
-        _emit(_handler(el, "analyze")(ws, el.id), args.csv, args.summary)
+        _emit(_handler(el, "analyze_forces" if args.forces else "analyze")(ws, el.id), args.csv, args.summary)
     elif args.command == "export":
         el = _pick(scene, args.element, "export")
         print(_handler(el, "export")(ws, el.id, args.dxf, args.tolerance))

@@ -1,9 +1,11 @@
-"""CLI handlers for linkage elements: ``analyze`` (CSV table + summary) and ``centrodes``."""
+"""CLI handlers for linkage elements: ``analyze`` (CSV table + summary), ``analyze --forces``
+(the same table with the force columns, and the forces summary) and ``centrodes``."""
 from __future__ import annotations
 
 import numpy as np
 
 from ..analyses.centrodes import linkage_centrodes
+from ..analyses.forces_report import force_summary, force_table
 from ..analyses.table import Table
 from ..model.linkage import Linkage
 from ..workspace import Workspace
@@ -36,6 +38,15 @@ def analyze(ws: Workspace, element_id: str) -> Analysis:
     if res.solution is None:
         raise res.exception
     return Analysis(analysis_table(res.element, res.solution), res.summary())
+
+
+def analyze_forces(ws: Workspace, element_id: str) -> Analysis:
+    """:func:`analyze` plus the kinetostatics: the table gains ``driver.torque``, ``J.Fx J.Fy``
+    per revolute joint and ``shaking.Fx shaking.Fy shaking.M`` (N, N·m; see
+    :mod:`mechsketch.core.analyses.forces_report`); the summary gains the forces summary."""
+    base = analyze(ws, element_id)
+    res = ws.forces(element_id)
+    return Analysis(force_table(res, base.table), base.summary + "\n" + force_summary(res))
 
 
 def centrodes(ws: Workspace, element_id: str, link: str, relative_to: str | None, samples: int | None

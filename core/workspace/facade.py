@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any, Iterable
 
+from ..analyses.forces import ForceResult
 from ..analyses.geneva_contact import GenevaContact, contact
 from ..analyses.geneva_geometry import GenevaGeometry, geometry
 from ..analyses.geneva_kinematics import GenevaKinematics, kinematics
@@ -71,6 +72,12 @@ class ElementView:
         0-2, only what ``joints`` depend on. Joint arrays (N, 2) mm; see :class:`Solution`."""
         self._need("linkage")
         return self._ws.solve(self._id, samples=samples, order=order, joints=joints)
+
+    def forces(self, samples: int | None = None) -> ForceResult:
+        """Driving torque, joint reactions, shaking force and moment over one revolution, with the
+        power balance (SI units; arrays (N,) or (N, 2); see :class:`ForceResult`)."""
+        self._need("linkage")
+        return self._ws.forces(self._id, samples=samples)
 
     # -- Geneva drives --------------------------------------------------------------------
     def kinematics(self, samples: int | None = None) -> GenevaKinematics:
