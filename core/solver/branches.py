@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .structure import MODAL_KINDS
-from .tolerances import TOUCH_REL
+from .tolerances import BRANCH_REL
 
 if TYPE_CHECKING:  # pragma: no cover
     from .plan import Plan
@@ -31,6 +31,9 @@ REF_SAMPLES = 1440
 #: a sampled local minimum of gap/scale below this is refined
 CANDIDATE = 2e-2
 GOLDEN_STEPS = 80
+#: a touch found this close to the drawn input (rad) is the drawn pose itself (the golden search
+#: locates a touch, a quadratic minimum, to ~sqrt(rounding / curvature) ≈ 1e-8 rad)
+DRAWN_NEAR = 1e-6
 TWO_PI = 2.0 * math.pi
 
 
@@ -52,40 +55,81 @@ def golden_min(f, a: float, b: float, steps: int = GOLDEN_STEPS) -> tuple[float,
     return x, f(x)
 
 
+def _apart(a: float, b: float) -> bool:
+    """Two offsets (rad) that are not the same point of the turn."""
+    return abs(math.remainder(a - b, TWO_PI)) > 1e-7
+
+
+def _leaves_flipped(plan: "Plan", k: int, idx: list[int], known: dict[str, np.ndarray],
+                    others: list[float]) -> bool:
+    """The drawn pose of step ``k``'s group is itself a branch point: both assembly modes pass
+    through it and it does not say which one the motion takes. Take the branch on which the inner
+    joint follows its outer joints (its displacement closest to theirs on average: a
+    parallelogram drawn at its crossing stays a parallelogram); True if that is the flipped mode."""
+    g = plan.steps[k].group
+    near = min((min(d, TWO_PI - d) for d in others), default=math.pi)
+    h = min(1e-3, 0.25 * near)
+    x = plan.theta0 + plan.direction * np.array([0.0, h])
+    at = {j.id: complex(*j.at) for j in plan.linkage.joints}
+    moved = {}
+    for flip in (False, True):
+        states: dict = {}
+        branches = dict(known)
+        branches[g.name] = np.array([0.0]) if flip else np.empty(0)
+        out = plan.run_steps(x, 0, idx, branches, states=states)[g.name]
+        m = np.broadcast_to(states[g.known_i].point(at[g.outer_i]), (2,))
+        hh = np.broadcast_to(states[g.known_j].point(at[g.outer_j]), (2,))
+        ell = np.broadcast_to(out.state_i.point(at[g.inner]), (2,))
+        follow = at[g.inner] + 0.5 * ((m[1] - m[0]) + (hh[1] - hh[0]))
+        moved[flip] = abs(ell[1] - follow) if np.isfinite(ell[1]) else math.inf
+    return moved[True] < moved[False]
+
+
 def find_branch_points(plan: "Plan", steps, known: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
-    """Add to ``known`` the branch-point offsets (rad, sorted, in (0, 2π)) of the groups of
-    ``steps`` (indices closed under dependencies, in solving order), keyed by group name."""
-    sg = plan.direction
+    """Add to ``known`` the branch-point offsets (rad, sorted, in [0, 2π]) of the groups of
+    ``steps`` (indices closed under dependencies, in solving order), keyed by group name.
+
+    Decided on :meth:`Plan.local` (the driver pivot at the origin), so that the same linkage
+    anywhere in the plane has the same branch points. A branch point at the drawn pose itself is
+    stored as 0.0 (the motion leaves it in the other mode: every sample flips) or 2π (it leaves
+    in the drawn mode; the point is crossed once per turn)."""
+    lp = plan.local()
+    sg = lp.direction
     delta = np.arange(REF_SAMPLES) * (TWO_PI / REF_SAMPLES)
-    inputs = plan.theta0 + sg * delta
+    inputs = lp.theta0 + sg * delta
     step_h = TWO_PI / REF_SAMPLES
     for k in sorted(steps):
-        step = plan.steps[k]
+        step = lp.steps[k]
         name = step.group.name
         if name in known:
             continue
         if step.group.kind not in MODAL_KINDS or step.group.fixed:  # fixed: it does not move
             known[name] = np.empty(0)
             continue
-        idx = plan.closure(k)
-        out = plan.run_steps(inputs, 0, idx, known)[name]
-        ok = out.ok
+        idx = lp.closure(k)
+        out = lp.run_steps(inputs, 0, idx, known)[name]
+        ok = out.ok if out.singular is None else out.ok | out.singular   # assembled
         gap = np.where(ok, out.gap, -np.inf)
         good = ok & np.roll(ok, 1) & np.roll(ok, -1)
         cand = np.flatnonzero(good & (gap <= np.roll(gap, 1)) & (gap <= np.roll(gap, -1))
                               & (gap < CANDIDATE * step.scale))
-        thr = TOUCH_REL * (step.scale + step.coord)
+        thr = BRANCH_REL * (step.scale + step.coord)
 
         def margin(d: float) -> float:
-            o = plan.run_steps(np.array([plan.theta0 + sg * d]), 0, idx, known)[name]
-            return abs(float(o.gap[0])) if np.isfinite(o.gap[0]) else math.inf
+            """The signed margin (an overlap within the kernels' tolerance is a minimum below
+            zero, not a touch: its |margin| would vanish where it crosses zero)."""
+            o = lp.run_steps(np.array([lp.theta0 + sg * d]), 0, idx, known)[name]
+            return float(o.gap[0]) if np.isfinite(o.gap[0]) else math.inf
 
         found: list[float] = []
         for c in cand:
             d, f = golden_min(margin, delta[c] - step_h, delta[c] + step_h)
             d %= TWO_PI
-            if f <= thr and 1e-9 < d < TWO_PI - 1e-9 and all(abs(d - e) > 1e-7 for e in found):
+            if abs(f) <= thr and all(_apart(d, e) for e in found):
                 found.append(d)
+        if abs(margin(0.0)) <= thr:   # drawn at a branch point: it says nothing about the mode after it
+            found = [d for d in found if min(d, TWO_PI - d) > DRAWN_NEAR]
+            found.append(0.0 if _leaves_flipped(lp, k, idx, known, found) else TWO_PI)
         known[name] = np.array(sorted(found))
     return known
 

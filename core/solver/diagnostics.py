@@ -27,13 +27,16 @@ class DeadPointKind(StrEnum):
     LIMIT = "limit"
     TOGGLE = "toggle"
     CHANGE_POINT = "change point"
+    SINGULAR = "singular"
 
 
 @dataclass(frozen=True)
 class DeadPoint:
     """A toggle: the driver angle (rad), the group, and whether the group stops being assemblable
-    there (``"limit"``), passes close to it (``"toggle"``), or passes through it where its two
-    assembly modes meet (``"change point"``: the solution keeps to the smooth branch).
+    there (``"limit"``), passes close to it (``"toggle"``), passes through it where its two
+    assembly modes meet (``"change point"``: the solution keeps to the smooth branch), or has its
+    outer joints coincide at a sample, which leaves its pose undetermined there (``"singular"``:
+    that sample is not solved, the motion continues on its smooth branch after it).
     ``kind`` is a :class:`DeadPointKind` (a string given here is converted)."""
 
     input: float
@@ -49,6 +52,8 @@ class DeadPoint:
         what = {DeadPointKind.LIMIT: "assembly limit",
                 DeadPointKind.CHANGE_POINT: "change point (the assembly modes meet; the motion keeps to the "
                                             "smooth branch)",
+                DeadPointKind.SINGULAR: "singular sample (the outer joints coincide: the pose is undetermined "
+                                        "there and not given; the motion keeps to the smooth branch)",
                 }.get(self.kind, f"near toggle (conditioning {self.conditioning:.1e})")
         return f"{math.degrees(self.input):.6f}° {self.group}: {what}"
 
@@ -97,12 +102,17 @@ class Diagnostics:
         return "\n".join(self.lines())
 
 
+def _assembled(sol: Solution) -> np.ndarray:
+    """(N,) bool: valid, or singular (assembled, pose undetermined at that one input)."""
+    return sol.valid | sol.singular
+
+
 def _bisect_valid(plan: Plan, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """For each pair (a valid, b invalid), the input where validity ends (vectorised bisection)."""
     a, b = a.astype(float).copy(), b.astype(float).copy()
     for _ in range(BISECT_STEPS):
         m = 0.5 * (a + b)
-        ok = plan.evaluate(m, order=0).valid
+        ok = _assembled(plan.evaluate(m, order=0))
         a = np.where(ok, m, a)
         b = np.where(ok, b, m)
     return a
@@ -121,7 +131,7 @@ def diagnose(sol: Solution) -> Diagnostics:
     """Diagnostics of a full-revolution sweep (``plan.sweep``)."""
     plan = sol.plan
     n = len(sol)
-    valid = sol.valid
+    valid = _assembled(sol)
     step = sol.input[1] - sol.input[0] if n > 1 else 2 * math.pi
     groups = []
     for g in sol.groups:
@@ -147,14 +157,20 @@ def diagnose(sol: Solution) -> Diagnostics:
                               order=0)
         for k, x in enumerate(np.concatenate([end_at, start_at])):
             for g in probe.groups:
-                if not probe.feasible(g.name)[k]:
+                o = probe.group_output(g.name)
+                if not o.ok[k] and not (o.singular is not None and o.singular[k]):
                     dead.append(DeadPoint(float(x), g.name, DeadPointKind.LIMIT, 0.0))
                     break
+    for g in sol.groups:
+        o = sol.group_output(g.name)
+        if o.singular is not None:
+            for k in np.flatnonzero(o.singular):
+                dead.append(DeadPoint(float(sol.input[k]), g.name, DeadPointKind.SINGULAR, 0.0))
     # near-toggles inside the reachable range: local minima of conditioning below the threshold
     for g in sol.groups:
         if g.fixed:  # does not move: no toggle to pass through
             continue
-        c = np.where(valid, sol.conditioning(g.name), np.inf)
+        c = np.where(sol.valid, sol.conditioning(g.name), np.inf)
         prev, nxt = np.roll(c, 1), np.roll(c, -1)
         cand = np.flatnonzero((c < TOGGLE_COND) & (c <= prev) & (c <= nxt) & np.isfinite(prev) & np.isfinite(nxt))
         branches = plan.branch_points().get(g.name, np.empty(0))

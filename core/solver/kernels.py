@@ -97,6 +97,8 @@ class DyadOut:
     inner, outer_j: RRP (outer_j: slider j on the guide of known_j), RPR (inner: link i on link
     j), PRP (outer_i: link i on known_i; outer_j: link j on known_j), RPP (inner: link i on link
     j; outer_j: link j on known_j); none for RRR.
+    ``singular`` (bool (N,), or None: nowhere) marks samples where the group assembles but its pose
+    is undetermined (RRR, RPR: the outer joints coincide within rounding); ``ok`` is False there.
     """
 
     state_i: LinkState
@@ -106,6 +108,7 @@ class DyadOut:
     gap: Arr
     mode: int | None = None
     slides: tuple[Slide, ...] = ()
+    singular: Arr | None = None
 
 
 #: PRP/RPP: below this |sin| between the two slide axes the lines are taken as parallel (not
@@ -151,12 +154,14 @@ def _slider(g: LinkState, s0: complex, u0: complex, s: Arr, sd: Arr | None, sdd:
 
 
 def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: complex,
-        order: int, flip: Arr | None = None, tol: float = 0.0) -> DyadOut:
+        order: int, flip: Arr | None = None, tol: float = 0.0, near: float = 0.0) -> DyadOut:
     """RRR dyad: link i = M–L, link j = H–L; M, H outer joints on known links, L the inner joint.
 
     Lengths and the assembly mode (sign of cross(H−M, L−M), +1: L left of M→H) come from the
     drawn positions m0, h0, l0. ``flip`` (±1 per sample) switches the mode past branch points
     so that the smooth branch is followed (see :mod:`mechsketch.core.solver.branches`).
+    ``tol`` (mm): a margin ≥ −tol assembles; ``near`` (mm): M and H closer than this leave the
+    direction M→H undetermined (a rhombus or kite where B meets D): singular, not solved.
     """
     li, lj = abs(l0 - m0), abs(l0 - h0)
     mode0 = 1.0 if cross(np.asarray(h0 - m0), np.asarray(l0 - m0)) >= 0.0 else -1.0
@@ -169,6 +174,8 @@ def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: co
     prod = (D + li + lj) * f1 * f2 * f3
     gap = np.minimum(np.minimum(f1, f2), f3)
     root, ok = _sqrt_ok(prod, gap, tol)
+    singular = ok & (D <= near)
+    ok = ok & ~singular
     x = ((li - lj) * (li + lj) + D * D) / (2.0 * D)
     h = mode * root / (2.0 * D)
     # L in polar form: |L − M| = li exactly. (x, h) lose accuracy like eps·li²/D where M and H
@@ -190,7 +197,7 @@ def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: co
         aM, aH = m_state.acceleration(m0, M), h_state.acceleration(h0, H)
         ai, aj, _ = solve2(c1, c2, aH - aM + wi * wi * ri - wj * wj * rj)  # eq. 3
         si.aA, si.alpha, sj.aA, sj.alpha = aM, ai, aH, aj
-    return DyadOut(si, sj, ok, cond, gap, int(mode0))
+    return DyadOut(si, sj, ok, cond, gap, int(mode0), singular=singular)
 
 
 def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex, l0: complex,
@@ -237,7 +244,7 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
 
 
 def rpr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, u0: complex,
-        order: int, flip: Arr | None = None, tol: float = 0.0) -> DyadOut:
+        order: int, flip: Arr | None = None, tol: float = 0.0, near: float = 0.0) -> DyadOut:
     """RPR dyad: link i (pin M) slides on link j (pin H) along an axis of drawn direction u0.
 
     Both links turn together. Only the axis direction matters: M's offset across the axis
@@ -253,6 +260,8 @@ def rpr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, u0: co
     D = np.abs(d)
     gap = D - abs(c)
     root, ok = _sqrt_ok((D - c) * (D + c), gap, tol)
+    singular = ok & (D <= near)   # the pins coincide (on a slot through the pivot): no direction
+    ok = ok & ~singular
     sigma = mode * root
     u = d / (sigma + 1j * c)
     rot = u / u0
@@ -272,7 +281,7 @@ def rpr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, u0: co
         si.aA, sj.aA, si.alpha, sj.alpha = aM, aH, al, al
     else:
         sdd = None
-    return DyadOut(si, sj, ok, cond, gap, int(mode0), (Slide(s, sd, sdd),))
+    return DyadOut(si, sj, ok, cond, gap, int(mode0), (Slide(s, sd, sdd),), singular)
 
 
 def prp(g1: LinkState, s1: complex, u1_0: complex, g2: LinkState, s2: complex, u2_0: complex,

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Callable, Iterable
 
 import numpy as np
@@ -52,6 +52,21 @@ class Plan:
     solved_by: dict[str, int] = field(default_factory=dict)  # link -> step index (-1: driver/ground)
     coord_scale: float = 0.0          # largest drawn coordinate magnitude, mm
     _branches: dict[str, np.ndarray] | None = field(default=None, repr=False)
+    _local: "Plan | None" = field(default=None, repr=False)
+
+    def local(self) -> "Plan":
+        """This plan for the linkage moved so that its driver pivot sits at the origin (the
+        plan itself if it does already): what depends on the geometry only — the branch points —
+        is decided on it, so that it does not depend on where the linkage sits in the plane.
+        The same groups; inputs and branch offsets mean the same on both."""
+        if self.pivot == 0:
+            return self
+        if self._local is None:
+            px, py = self.pivot.real, self.pivot.imag
+            moved = replace(self.linkage, joints=tuple(j.moved((j.at[0] - px, j.at[1] - py))
+                                                       for j in self.linkage.joints))
+            self._local = compile_plan(moved, self.groups)
+        return self._local
 
     @property
     def mobility(self) -> int:
@@ -187,9 +202,10 @@ def _held(out: K.DyadOut, shape: tuple[int, ...], order: int) -> K.DyadOut:
     zero = np.zeros(shape)
     slides = tuple(K.Slide(zero, zero if order >= 1 else None, zero if order >= 2 else None) for _ in out.slides)
     ok = np.broadcast_to(np.asarray(out.ok, dtype=bool), shape).copy()
+    sing = None if out.singular is None else np.broadcast_to(np.asarray(out.singular, dtype=bool), shape).copy()
     return K.DyadOut(still(out.state_i), still(out.state_j), ok,
                      np.broadcast_to(np.asarray(out.cond, dtype=float), shape).copy(),
-                     np.broadcast_to(np.asarray(out.gap, dtype=float), shape).copy(), out.mode, slides)
+                     np.broadcast_to(np.asarray(out.gap, dtype=float), shape).copy(), out.mode, slides, sing)
 
 
 def _axis(linkage: Linkage, jid: str) -> tuple[complex, complex]:
@@ -331,6 +347,17 @@ class Solution:
 
     def __len__(self) -> int:
         return self.input.shape[0]
+
+    @property
+    def singular(self) -> np.ndarray:
+        """(N,) bool: samples where a group assembles but its pose is undetermined (its outer
+        joints coincide: a rhombus or a kite where B meets D). They are not ``valid`` (NaN, not
+        a guess); the diagnostics report them as singular points."""
+        out = np.zeros(len(self), dtype=bool)
+        for o in self._outs.values():
+            if o.singular is not None:
+                out |= o.singular
+        return out
 
     # -- internals ------------------------------------------------------------------------
     def _state(self, link: str) -> K.LinkState:

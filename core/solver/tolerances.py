@@ -9,5 +9,14 @@ TOGGLE_COND = 1e-3
 #: an assembly margin within TOUCH_REL · (group size + coordinate size) of zero is a toggle
 #: touched exactly (rounding, not geometry): it assembles, and may be a branch point
 TOUCH_REL = 64 * np.finfo(float).eps
+#: a local minimum of a group's assembly margin within BRANCH_REL · (group size + coordinate size,
+#: both taken about the driver pivot) of zero is a branch point (a toggle passed *through*); a
+#: larger one is a near miss (the mode is kept). The margin's rounding at a true touch, measured on
+#: the test linkages, is ≤ 2 eps of that size; a gap of 1e-12 mm at 300 mm is resolved
+BRANCH_REL = 8 * np.finfo(float).eps
+#: outer joints of an RRR (or the pins of an RPR) closer than SINGULAR_REL · (group size +
+#: coordinate size) leave the direction between them, hence the pose, undetermined: the sample is
+#: singular (reported, not solved; its position error would be ~eps·size²/distance)
+SINGULAR_REL = 1.5e-8
 
-__all__ = ["TOGGLE_COND", "TOUCH_REL"]
+__all__ = ["BRANCH_REL", "SINGULAR_REL", "TOGGLE_COND", "TOUCH_REL"]

@@ -303,15 +303,23 @@ def test_inverted_slider_crank_pin_through_the_pivot_without_a_jump():
 def test_rhombus_drawn_on_grid_angles_never_gives_an_open_loop(theta0):
     """All four lengths equal, crank drawn at a whole degree: the 1° sweep samples the input
     where the crank pin lies on the rocker pivot to ~1e-14 mm, and inputs nearby put it 1e-14 to
-    1e-6 mm away. There the coupler's direction is all but undetermined, but whatever pose is
-    returned as valid must close its loop (it used to be open by up to 96 mm)."""
+    1e-6 mm away. There the coupler's direction is all but undetermined (a position error of
+    ~eps·size²/|BD|): whatever pose is returned as valid must close its loop (it used to be open
+    by up to 96 mm) and be the parallelogram's (it used to be off by 31–141 mm, issue 13); where
+    B and D coincide within rounding the sample is singular, not valid (issue 13, item 8)."""
     lk = LB.fourbar(crank=60.0, coupler=60.0, rocker=60.0, ground=60.0, theta0=theta0)
     size = LB.size_of(lk)
     sol = compile_plan(lk).sweep(samples=360)
     assert CK.closure_error(lk, sol) <= 1e-9 * size
     assert sol.residual() <= 1e-9 * size
-    assert sol.valid.sum() >= 359
+    assert sol.valid.sum() >= 359 and (sol.valid | sol.singular).all()
     d = np.array([1e-15, 1e-14, 1e-13, 1e-12, 1e-11, 1e-10, 1e-9, 1e-8, 1e-7])
-    ev = compile_plan(lk).evaluate(np.concatenate([d, -d]), order=0)
-    assert ev.valid.all()
+    x = np.concatenate([d, -d])
+    ev = compile_plan(lk).evaluate(x, order=0)
+    assert (ev.valid | ev.singular).all()
+    assert ev.valid[np.abs(x) >= 1e-7].all()              # |BD| ≥ 6e-6 mm: solved
+    assert ev.singular[np.abs(x) <= 1e-12].all()          # |BD| ≤ 6e-11 mm: undetermined
     assert CK.closure_error(lk, ev) <= 1e-9 * size
+    z = {j: ev.position(j)[:, 0] + 1j * ev.position(j)[:, 1] for j in "ABCD"}
+    off = np.abs(z["C"] - (z["B"] + z["D"] - z["A"]))[ev.valid]
+    assert off.size and off.max() <= 1e-6 * size          # the parallelogram, as drawn
