@@ -2,12 +2,16 @@
 ``export`` (DXF of the wheel and the driver)."""
 from __future__ import annotations
 
+import numpy as np
+
 from ..analyses.geneva_report import COLUMNS, analysis_table, summary
+from ..analyses.geneva_torque import crank_torque
+from ..analyses.table import Table
 from ..io.dxf_geneva import export_geneva
 from ..workspace import Workspace
 from . import Analysis
 
-__all__ = ["COLUMNS", "analysis_table", "analyze", "export", "summary"]  # the table and text live in analyses
+__all__ = ["COLUMNS", "analysis_table", "analyze", "analyze_forces", "export", "summary"]  # the table and text live in analyses
 
 
 def analyze(ws: Workspace, element_id: str) -> Analysis:
@@ -17,6 +21,19 @@ def analyze(ws: Workspace, element_id: str) -> Analysis:
     if res.kinematics is None or res.contact is None:
         raise res.exception
     return Analysis(analysis_table(res.kinematics, res.contact), res.summary())
+
+
+def analyze_forces(ws: Workspace, element_id: str) -> Analysis:
+    """:func:`analyze` plus the crank torque from the contact model (``driver.torque``, N·m,
+    counter-clockwise positive; see :mod:`mechsketch.core.analyses.geneva_torque`)."""
+    base = analyze(ws, element_id)
+    res = ws.result(element_id)
+    tq = crank_torque(res.element, res.contact)
+    table = Table(base.table.columns + ["driver.torque"],
+                  np.column_stack([base.table.data, tq.torque]), set(base.table.integer))
+    text = (f"crank torque (contact model, N·m, CCW +): peak {tq.peak:.6g} at φ "
+            f"{np.degrees(tq.phi_peak):.2f}°, RMS {tq.rms:.6g}")
+    return Analysis(table, base.summary + "\n" + text)
 
 
 def export(ws: Workspace, element_id: str, path: str, tolerance: float) -> str:
