@@ -74,20 +74,33 @@ def rectangle(centre: Sequence[float], along: float, across: float, angle: float
     return Contour(pts, np.zeros(4), (kind,) * 4)
 
 
-def disc_hull(centres: np.ndarray, radii: np.ndarray, kind: str = "plate") -> Contour:
+def disc_hull(centres: np.ndarray, radii: np.ndarray, kind: str = "plate",
+              spans: Sequence[tuple[float, float] | None] | None = None) -> Contour:
     """The convex hull of discs (centres (K, 2) mm, radii (K,) mm ≥ 0; 0 is a point), exact.
 
+    ``spans`` (optional, per disc): (a, b) rad makes disc k only the arc of its circle between
+    the angles a < b (counter-clockwise), e.g. a working arc that must stay on the outline; its
+    end points take part as points.
+
     The support function h(θ) = max_k (c_k·n(θ) + r_k) is the upper envelope of sinusoids; its
-    breakpoints are the pairwise crossings, found in closed form. Each angle interval whose
-    maximiser is disc k gives an arc of k (a vertex if r_k = 0); consecutive ones are joined by
-    their common outer tangent. Counter-clockwise.
+    breakpoints are the pairwise crossings, found in closed form (and the arcs' end normals). Each
+    angle interval whose maximiser is disc k gives an arc of k (a vertex if r_k = 0); consecutive
+    ones are joined by their common outer tangent. Counter-clockwise.
     """
     c = np.asarray(centres, float).reshape(-1, 2)
     r = np.asarray(radii, float).reshape(-1)
+    span = list(spans) if spans is not None else [None] * len(c)
+    crit = [0.0]
+    for k, sp in enumerate(list(span)):
+        if sp is not None:
+            for ang in sp:
+                c = np.vstack([c, c[k] + r[k] * np.array([math.cos(ang), math.sin(ang)])])
+                r = np.append(r, 0.0)
+                span.append(None)
+                crit.append(ang % (2 * math.pi))
     scale = float(np.max(np.abs(c)) + np.max(r) + 1.0)
     if len(c) == 1:
         return circle(c[0], r[0], kind)
-    crit = [0.0]
     for i in range(len(c)):
         for j in range(i + 1, len(c)):
             d = c[i] - c[j]
@@ -103,6 +116,10 @@ def disc_hull(centres: np.ndarray, radii: np.ndarray, kind: str = "plate") -> Co
     crit = np.append(crit, crit[0] + 2 * math.pi)
     mids = 0.5 * (crit[:-1] + crit[1:])
     support = c @ np.stack([np.cos(mids), np.sin(mids)]) + r[:, None]
+    for k, sp in enumerate(span):
+        if sp is not None:
+            rel = np.mod(mids - sp[0], 2 * math.pi)
+            support[k] = np.where(rel <= (sp[1] - sp[0]) % (2 * math.pi), support[k], -np.inf)
     owner = np.argmax(support - 1e-12 * scale * np.arange(len(c))[:, None], axis=0)
     # merge runs of one owner (cyclically)
     runs: list[list] = []

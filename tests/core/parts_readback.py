@@ -96,10 +96,14 @@ def read_dxf(path) -> tuple[ezdxf.document.Drawing, dict[str, list[np.ndarray]]]
     return doc, rings
 
 
-def polygon_of(rings: list[np.ndarray]) -> shapely.Polygon:
-    """The largest ring as the outline, the others as holes."""
+def polygon_of(rings: list[np.ndarray]) -> shapely.Geometry:
+    """The largest ring as the outline, the others as holes; rings that do not lie inside each
+    other (a drilling pattern) give a MultiPolygon of them."""
     rings = sorted(rings, key=lambda r: -abs(shapely.Polygon(r).area))
-    return shapely.Polygon(rings[0], rings[1:])
+    outer = shapely.Polygon(rings[0])
+    if all(outer.contains(shapely.Polygon(r)) for r in rings[1:]):
+        return shapely.Polygon(rings[0], rings[1:])
+    return shapely.MultiPolygon([shapely.Polygon(r) for r in rings])
 
 
 def dxf_parts(path) -> tuple[ezdxf.document.Drawing, dict[str, shapely.Polygon]]:
