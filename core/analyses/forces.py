@@ -360,7 +360,7 @@ def linkage_forces(plan: Plan, sol: Solution) -> ForceResult:
                                       DriverEffort("torque", drv, feff), fpins, fslides,
                                       _balance(ks, F2, M2, feff * w, valid), its, conv & valid)
     res = ForceResult(ks.lk, sol.input, sol.t, valid, DriverEffort("torque", drv, effort), pins, slides,
-                      frame_f, frame_m, {s.group.name: sol.group_output(s.group.name).cond
+                      frame_f, frame_m, {s.group.name: _arr(sol.group_output(s.group.name).cond, n)
                                          for s in plan.steps},
                       friction, groups=tuple(s.group for s in plan.steps))
     res._power_args = (ks, F, M, effort * w, valid)
