@@ -36,6 +36,7 @@ def canvas_parts(controller: SceneController, window: MainWindow) -> CanvasParts
     window's status bar (the :data:`Components` the app uses)."""
     from .animation import AnimationPlayer
     from .canvas.view import CanvasView
+    from .canvas_menus import CanvasMenus
     from .scrubbar import ScrubBar
 
     view = CanvasView(controller)
@@ -47,11 +48,15 @@ def canvas_parts(controller: SceneController, window: MainWindow) -> CanvasParts
     player.stopped.connect(window.show_message)
     animation = [player.play_action, player.direction_action, player.step_forward_action,
                  player.step_back_action, *player.dead_point_actions.actions()]
+    menus = CanvasMenus(view, window)   # overlays, centrodes, Insert, Export Animation
+    window.canvas_menus = menus
     return CanvasParts(view, player, bar, tools=view.tool_actions,
                        view_actions=[view.zoom_fit_action, view.snap_action, view.trace_action,
                                      view.labels_action],
                        animation_actions=animation, delete=view.delete_action,
-                       zoom_fit=view.zoom_fit_action, stop=player.pause)
+                       zoom_fit=view.zoom_fit_action, stop=lambda: (player.pause(), menus.exporter.cancel(),
+                                                                    menus.exporter.wait()),
+                       menus=menus.menus)
 
 
 def qapplication(argv: list[str] | None = None) -> QApplication:

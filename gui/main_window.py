@@ -52,6 +52,8 @@ class CanvasParts:
     delete: QAction | None = None
     zoom_fit: QAction | None = None
     stop: Callable[[], None] | None = None
+    #: more entries for the menus, by menu ("file", "view", "examples"): QActions or QMenus (submenus)
+    menus: dict[str, list] = field(default_factory=dict)
 
 
 #: makes the canvas parts for a controller and the window (status-bar sinks); see app.py
@@ -179,6 +181,7 @@ class MainWindow(QMainWindow):
         file_menu.addActions([a["save"], a["save_as"]])
         file_menu.addSeparator()
         file_menu.addActions([a["export_dxf"], a["export_png"], a["export_csv"]])
+        self._add_extra(file_menu, "file")
         file_menu.addSeparator()
         file_menu.addAction(a["quit"])
         self._fill_recent()
@@ -189,6 +192,7 @@ class MainWindow(QMainWindow):
             edit.addAction(a["delete"])
         view = bar.addMenu("&View")
         view.addActions(self.parts.view_actions)
+        self._add_extra(view, "view")
         if self.parts.animation_actions:
             animation = view.addMenu("&Animation")
             animation.addActions(self.parts.animation_actions)
@@ -200,8 +204,17 @@ class MainWindow(QMainWindow):
         examples = bar.addMenu("E&xamples")
         for name in self.file_ops.examples():
             examples.addAction(a[f"example:{name}"])
+        self._add_extra(examples, "examples")
         help_menu = bar.addMenu("&Help")
         help_menu.addAction(a["about"])
+
+    def _add_extra(self, menu: QMenu, key: str) -> None:
+        """Append the canvas side's extra entries for ``key`` (actions, or submenus) to ``menu``."""
+        extra = self.parts.menus.get(key, [])
+        if extra:
+            menu.addSeparator()
+        for entry in extra:
+            menu.addMenu(entry) if isinstance(entry, QMenu) else menu.addAction(entry)
 
     def _make_toolbar(self) -> None:
         a = self.actions
