@@ -220,6 +220,7 @@ class RollingItem(_Container):
                                              1.0, "lever_arc")
         self.paths["slider_arc"] = _path_item(arc_path(sc.center, sc.radius, u2a, u2b), self.lever, None,
                                               SLIDER_EDGE, 3.2, 1.0, "slider_arc")
+        self._ticks(res, depth)
         # extent over the whole cycle: every moving point, the lever plate at each end of the stroke
         moving = [fr.F, fr.P, fr.P0, res.frame_profile, res.bicentrode, np.asarray([el.rocker_pivot, a, b])]
         if fr.A is not None:
@@ -230,6 +231,37 @@ class RollingItem(_Container):
         self._set_core(rect)
         self.label_at = (rect.left(), rect.bottom())
         self.label_text = f"{el.id}  (rolling lever, {res.synthesis.method})"
+
+    def _ticks(self, res: RollingResult, depth: float) -> None:
+        """Matching marks on both bodies of each pair, at the same synthesis samples θ_k: on the frame
+        profile at P_k and on the lever circle at u1_k, on the slider profile at Q_k and on the
+        slider circle at u2_k. Rolling without slip brings each pair of marks together exactly when
+        the contact passes them, so the rolling is visible during the animation."""
+        syn = res.synthesis
+        el = self.result.element
+        n = len(syn.theta)
+        idx = np.unique(np.linspace(0, n - 1, min(n, 13)).round().astype(int))
+        size = 0.5 * depth
+
+        def marks(points: np.ndarray, normals: np.ndarray) -> QPainterPath:
+            path = QPainterPath()
+            for p, d in zip(points[idx], normals[idx]):
+                if np.isfinite(p).all() and np.isfinite(d).all():
+                    path.moveTo(float(p[0] - size * d[0]), float(p[1] - size * d[1]))
+                    path.lineTo(float(p[0] + size * d[0]), float(p[1] + size * d[1]))
+            return path
+
+        def radial(centre, radius: float, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+            d = np.stack([np.cos(u), np.sin(u)], axis=-1)
+            return np.asarray(centre) + radius * d, d
+
+        specs = (("frame_ticks", self, np.asarray(syn.P), _normals(np.asarray(syn.P)), FRAME_EDGE),
+                 ("lever_ticks", self.lever, *radial(el.lever_circle.center, el.lever_circle.radius, syn.u1), ARC),
+                 ("slider_ticks", self.slider, np.asarray(syn.Q), _normals(np.asarray(syn.Q)), SLIDER_EDGE),
+                 ("slider_arc_ticks", self.lever, *radial(el.slider_circle.center, el.slider_circle.radius, syn.u2),
+                  SLIDER_EDGE))
+        for name, parent, pts, normals, colour in specs:
+            self.paths[name] = _path_item(marks(pts, normals), parent, None, colour, 1.6, 1.2, name)
 
     # -- animation --------------------------------------------------------------------------
     def set_frame(self, index: int) -> None:
@@ -288,6 +320,14 @@ class RollingItem(_Container):
         r = JOINT_PX * px
         for j in joints + grounds:
             painter.drawEllipse(QPointF(*j), r, r)
+        if fr.u1 is not None:   # the contact as a point of the lever (its circles), carried by the lever
+            lt = self.lever.transform()
+            for centre, radius, u in ((el.lever_circle.center, el.lever_circle.radius, fr.u1[k]),
+                                      (el.slider_circle.center, el.slider_circle.radius, fr.u2[k])):
+                q = lt.map(QPointF(centre[0] + radius * math.cos(u), centre[1] + radius * math.sin(u)))
+                painter.setPen(_pen(CONTACT, 2.0))
+                painter.setBrush(Qt.BrushStyle.NoBrush)
+                painter.drawEllipse(q, 6.5 * px, 6.5 * px)
         painter.setPen(Qt.PenStyle.NoPen)
         painter.setBrush(QBrush(CONTACT))
         for c in (fr.P[k], fr.P0[k]):

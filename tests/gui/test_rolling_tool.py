@@ -93,3 +93,30 @@ def test_the_lever_radius_handle_maps_back_to_the_drawn_pose(qtbot):
     user.drag(h.at, (55.0 * d[0], 55.0 * d[1]), steps=3)
     assert ctl.scene.element(eid).lever_circle.radius == pytest.approx(55.0, abs=0.4)   # one pixel: 0.35 mm
     assert math.isfinite(ctl.element_result(eid).synthesis.slip.continuous.slip_d)
+
+
+def test_matching_marks_on_both_bodies_meet_at_the_contact_as_the_lever_rolls(qtbot):
+    from PySide6.QtCore import QPointF
+
+    ctl, view, user = make_view(qtbot, window=WINDOW)
+    _draw(user)
+    eid = ctl.scene.ids[0]
+    item = view.element_items[eid]
+    res = ctl.element_result(eid)
+    syn, fr = res.synthesis, res.frames
+
+    def mid(path, i):
+        a, b = path.elementAt(2 * i), path.elementAt(2 * i + 1)
+        return QPointF((a.x + b.x) / 2, (a.y + b.y) / 2)
+
+    n_ticks = item.paths["lever_ticks"].path().elementCount() // 2
+    assert n_ticks == item.paths["frame_ticks"].path().elementCount() // 2 >= 10
+    for frame, tick in ((0, 0), (len(fr) // 2, n_ticks - 1)):      # stroke start and end (cosine law)
+        ctl.set_frame(frame)
+        lever = item.lever.transform().map(mid(item.paths["lever_ticks"].path(), tick))
+        ground = mid(item.paths["frame_ticks"].path(), tick)
+        assert (lever.x(), lever.y()) == pytest.approx((ground.x(), ground.y()), abs=1e-6)
+        slider = item.slider.transform().map(mid(item.paths["slider_ticks"].path(), tick))
+        arc = item.lever.transform().map(mid(item.paths["slider_arc_ticks"].path(), tick))
+        assert (slider.x(), slider.y()) == pytest.approx((arc.x(), arc.y()), abs=1e-6)
+    assert syn.theta[-1] == pytest.approx(fr.theta[len(fr) // 2])
