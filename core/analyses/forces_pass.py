@@ -143,20 +143,21 @@ class Kinetostatics:
             inertia = (m.inertia if m.inertia is not None else default_inertia(m.mass, span)) / MM  # kg·m·mm
             d = c0 - st.a0
             mk = -m.mass * MM
-            m_in = 0.0 if _zero(st.alpha) else (-inertia) * st.alpha
+            # the moment of −m·a_c about the anchor: cross(r, a_c) = cross(r, a_A) + α·|r|²
+            m_in = 0.0 if _zero(st.alpha) else (mk * abs(d) ** 2 - inertia) * st.alpha
             if d != 0:
                 r = st.rot * d                                      # centre of mass from the anchor
                 coef = 1j * st.alpha - st.omega * st.omega
-                acc = _add(st.aA, coef * r)                         # mm/s²
+                if _zero(st.aA):                                    # a crank: a_c = coef·r
+                    f_in = (mk * coef) * r
+                else:
+                    f_in = mk * (st.aA + coef * r)
                 rc = r.conjugate()
-                # cross(r, a_c) = cross(r, a_A) + α|r|²: the moment of −m·a_c about the anchor
                 if not _zero(st.aA):
                     m_in = _add(m_in, mk * (rc * st.aA).imag)
-                if not _zero(st.alpha):
-                    m_in = _add(m_in, (mk * abs(d) ** 2) * st.alpha)
             else:
-                acc, rc = st.aA, 0j
-            f_in = 0j if _zero(acc) else mk * acc
+                rc = 0j
+                f_in = 0j if _zero(st.aA) else mk * st.aA
             self.inertia[k] = (f_in, m_in)
             F[k] = _add(F[k], f_in)
             M[k] = _add(M[k], m_in)
