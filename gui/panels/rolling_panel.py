@@ -7,19 +7,27 @@ paper, corrected) and the number of intervals N, and the drive's crank pivot and
 when the lever has a drive. Each edit is one undo step through
 :func:`.element_props.push_changes`; a refused value (a stroke beyond the working range, a rocker
 line missing the lever circle, ...) leaves the document as it was and the core's message in the
-status bar. Read-only: the rocker length, the working range and the slider travel.
+status bar. Read-only: the rocker length, the working range and the slider travel. "Methods side
+by side" runs the three synthesis methods at the element's N and tabulates their slip measures.
 """
 from __future__ import annotations
 
 import math
 
 import numpy as np
-from PySide6.QtWidgets import QFormLayout, QGroupBox, QLabel
+from PySide6.QtWidgets import (QFormLayout, QGroupBox, QLabel, QPushButton, QTableWidget, QTableWidgetItem,
+                               QVBoxLayout)
+
+from mechsketch.core.analyses.rolling_synthesis import error_table
+from mechsketch.core.errors import MechsketchError
 
 from mechsketch.core.model.rolling_lever import METHODS, RollingLever
 
 from mechsketch.core.workspace import RollingResult
 from .element_props import combo_field, push_changes, whole_number
+
+#: the order of the side-by-side columns
+METHODS_SHOWN = ("exact", "corrected", "paper")
 
 
 def _get(el: RollingLever, key: str):
@@ -136,4 +144,50 @@ def rolling_boxes(panel, element_id: str) -> list[QGroupBox]:
         labels["drive"].setText(f"{d.crank:.4f} / {d.coupler:.4f} mm" if d is not None else "no drive")
     panel.add_refresher(show_derived)
     boxes.append(derived)
+    boxes.append(method_comparison_box(panel, element_id))
     return boxes
+
+
+#: rows of the side-by-side table: (label, ErrorRow attribute, format)
+COMPARE_ROWS = (("time (ms)", "time_s", "ms"), ("kinematic slip, points (mm)", "kinematic_slip", "e"),
+                ("slip of the motion (mm)", "continuous_slip", "e"), ("IC offset (mm)", "ic_offset", "e"),
+                ("deviation from exact (mm)", "deviation", "e"), ("physical slip (mm)", "physical_slip", "e"),
+                ("arc-length mismatch (mm)", "arc_mismatch", "e"))
+
+
+def method_comparison_box(panel, element_id: str) -> QGroupBox:
+    """The three synthesis methods side by side at the element's N: the core's error table
+    (:func:`~mechsketch.core.analyses.rolling_synthesis.error_table`), computed when asked."""
+    ctl = panel.controller
+    box = QGroupBox("Methods side by side")
+    lay = QVBoxLayout(box)
+    button = QPushButton("Compare exact / corrected / paper")
+    button.setObjectName(f"compare:{element_id}")
+    table = QTableWidget(len(COMPARE_ROWS), len(METHODS_SHOWN))
+    table.setObjectName(f"comparison:{element_id}")
+    table.setHorizontalHeaderLabels(list(METHODS_SHOWN))
+    table.setVerticalHeaderLabels([r[0] for r in COMPARE_ROWS])
+    table.setEditTriggers(QTableWidget.EditTrigger.NoEditTriggers)
+    table.setMinimumHeight(230)
+    note = QLabel("the slip measures of each method at the same N")
+    note.setWordWrap(True)
+    lay.addWidget(button)
+    lay.addWidget(table)
+    lay.addWidget(note)
+
+    def compare() -> None:
+        el = ctl.scene.element(element_id)
+        try:
+            rows = error_table(el, ns=(el.points,), methods=METHODS_SHOWN, repeat=1)
+        except MechsketchError as exc:
+            note.setText(f"cannot compare: {exc}")
+            return
+        for j, row in enumerate(rows):
+            for i, (_, attr, fmt) in enumerate(COMPARE_ROWS):
+                v = getattr(row, attr)
+                text = "—" if not math.isfinite(v) else f"{v * 1e3:.2f}" if fmt == "ms" else f"{v:.3e}"
+                table.setItem(i, j, QTableWidgetItem(text))
+        note.setText(f"N = {el.points} intervals; the element uses '{el.method}' (change it above)")
+        ctl.message.emit(f"{element_id}: methods compared at N = {el.points}")
+    button.clicked.connect(compare)
+    return box

@@ -8,6 +8,7 @@ import pytest
 from PySide6.QtCore import QRectF
 
 from canvas_user import example, make_view
+from app_fakes import shell  # noqa: F401 - fixture
 from mechsketch.core.analyses.rolling_synthesis import synthesize
 
 WINDOW = QRectF(-170.0, -110.0, 320.0, 230.0)
@@ -120,3 +121,27 @@ def test_matching_marks_on_both_bodies_meet_at_the_contact_as_the_lever_rolls(qt
         arc = item.lever.transform().map(mid(item.paths["slider_arc_ticks"].path(), tick))
         assert (slider.x(), slider.y()) == pytest.approx((arc.x(), arc.y()), abs=1e-6)
     assert syn.theta[-1] == pytest.approx(fr.theta[len(fr) // 2])
+
+
+def test_methods_side_by_side_in_the_properties_show_the_cores_slip_measures(shell):
+    from app_fakes import open_example
+    from mechsketch.core.analyses.rolling_synthesis import error_table
+    from PySide6.QtWidgets import QPushButton, QTableWidget
+
+    parts, ctl, view = open_example(shell, "rolling_lever_press")
+    ctl.set_selection([("press", "element", "press")])
+    props = parts.window.properties
+    button = props.findChild(QPushButton, "compare:press")
+    table = props.findChild(QTableWidget, "comparison:press")
+    button.click()
+    cols = [table.horizontalHeaderItem(j).text() for j in range(3)]
+    assert cols == ["exact", "corrected", "paper"]
+    rows = error_table(ctl.scene.element("press"), ns=(200,), methods=tuple(cols), repeat=1)
+    labels = [table.verticalHeaderItem(i).text() for i in range(table.rowCount())]
+    i = labels.index("kinematic slip, points (mm)")
+    for j, row in enumerate(rows):
+        assert float(table.item(i, j).text()) == pytest.approx(row.kinematic_slip, rel=1e-3)
+    # the paper's construction levels off near a millimetre; the exact motion slides ~1e-10 mm
+    assert float(table.item(i, 2).text()) > 0.5
+    k = labels.index("slip of the motion (mm)")
+    assert float(table.item(k, 0).text()) < 1e-8 and table.item(k, 1).text() == "—"
