@@ -17,11 +17,12 @@ from ..io.scene_file import load_scene, validate_file
 from ..io.table import write_csv
 from ..model.linkage import Linkage
 from ..workspace import Workspace
+from .export_cmds import add_export_parser, drawing_problems, run_export
 
 #: element type -> module implementing its commands, each taking the workspace and the element id:
-#: ``analyze(ws, id) -> Analysis`` (samples: the workspace's override), ``export(ws, id, path,
-#: tolerance) -> str``, ``synthesize(ws, id) -> Analysis``, ``centrodes(ws, id, link,
-#: relative_to, samples) -> Table``.
+#: ``analyze(ws, id) -> Analysis`` (samples: the workspace's override), ``synthesize(ws, id) ->
+#: Analysis``, ``centrodes(ws, id, link, relative_to, samples) -> Table``. ``export`` works for
+#: every element type (core/cli/export_cmds.py).
 HANDLERS: dict[str, str] = {
     "linkage": "mechsketch.core.cli.linkage_cmds",
     "geneva": "mechsketch.core.cli.geneva_cmds",
@@ -81,11 +82,7 @@ def build_parser() -> argparse.ArgumentParser:
                         "to the table and the summary")
     v = sub.add_parser("validate", help="list the problems of a scene file; exit 0 when there are none")
     v.add_argument("scene")
-    e = sub.add_parser("export", help="write the manufacturable outline of an element as DXF (mm)")
-    e.add_argument("scene")
-    e.add_argument("--element", metavar="ID")
-    e.add_argument("--dxf", metavar="PATH", required=True)
-    e.add_argument("--tolerance", type=float, default=0.001, metavar="MM")
+    add_export_parser(sub)
     s = sub.add_parser("synthesize", help="synthesise rolling profiles (rolling_lever)")
     s.add_argument("scene")
     s.add_argument("--element", metavar="ID")
@@ -124,7 +121,8 @@ def run(args: argparse.Namespace) -> int:
     if args.command == "validate":
         problems = validate_file(args.scene)
         if not problems:
-            problems = _structure_problems(Workspace(load_scene(args.scene)))
+            ws = Workspace(load_scene(args.scene))
+            problems = _structure_problems(ws) + drawing_problems(ws)
         for prob in problems:
             print(prob)
         if not problems:
@@ -139,8 +137,7 @@ def run(args: argparse.Namespace) -> int:
         ws.samples = args.samples
         _emit(_handler(el, "analyze_forces" if args.forces else "analyze")(ws, el.id), args.csv, args.summary)
     elif args.command == "export":
-        el = _pick(scene, args.element, "export")
-        print(_handler(el, "export")(ws, el.id, args.dxf, args.tolerance))
+        print(run_export(ws, args))
     elif args.command == "synthesize":
         el = _pick(scene, args.element, "synthesize")
         _emit(_handler(el, "synthesize")(ws, el.id), args.csv, args.summary)

@@ -1,5 +1,5 @@
 """CLI handlers for Geneva drives: ``analyze`` (kinematics + contact/wear table and summary) and
-``export`` (DXF of the wheel and the driver)."""
+its parts are written by ``export`` (core/cli/export_cmds.py)."""
 from __future__ import annotations
 
 import numpy as np
@@ -7,11 +7,10 @@ import numpy as np
 from ..analyses.geneva_report import COLUMNS, analysis_table, summary
 from ..analyses.geneva_torque import crank_torque
 from ..analyses.table import Table
-from ..io.dxf_geneva import export_geneva
 from ..workspace import Workspace
 from . import Analysis
 
-__all__ = ["COLUMNS", "analysis_table", "analyze", "analyze_forces", "export", "summary"]  # the table and text live in analyses
+__all__ = ["COLUMNS", "analysis_table", "analyze", "analyze_forces", "summary"]  # the table and text live in analyses
 
 
 def analyze(ws: Workspace, element_id: str) -> Analysis:
@@ -36,6 +35,3 @@ def analyze_forces(ws: Workspace, element_id: str) -> Analysis:
     return Analysis(table, base.summary + "\n" + text)
 
 
-def export(ws: Workspace, element_id: str, path: str, tolerance: float) -> str:
-    """Write the wheel and the driver as DXF (exact arcs: ``tolerance`` is not needed)."""
-    return export_geneva(ws.element(element_id), path)

@@ -1,14 +1,10 @@
-"""CLI handlers for rolling-lever elements: ``synthesize`` (CSV table + summary) and ``export`` (DXF).
+"""CLI handlers for rolling-lever elements: ``synthesize`` (CSV table + summary); ``export`` (core/cli/export_cmds.py) writes its plates.
 
 ``synthesize`` columns: theta alpha F.x F.y P.x P.y u1 P0.x P0.y u2 k53 S5 Q.x Q.y (mm, rad, mm/rad
 for k53; Q in the slider frame), one row per stroke sample k = 0…N of the element's method.
 """
 from __future__ import annotations
 
-import os
-
-from ..analyses.rolling_synthesis import synthesize as _synthesize
-from ..io.dxf_rolling import export_rolling
 from ..workspace import Workspace
 from . import Analysis
 
@@ -21,9 +17,3 @@ def synthesize(ws: Workspace, element_id: str) -> Analysis:
         raise res.exception
     return Analysis(res.synthesis.table(), res.summary())
 
-
-def export(ws: Workspace, element_id: str, path: str | os.PathLike, tolerance: float) -> str:
-    """Write the DXF (frame profile, lever outline, slider profile; mm); returns the report text.
-    A synthesis without the slip measures is enough for the outlines."""
-    res = _synthesize(ws.element(element_id), measures=False)
-    return export_rolling(res, path, tolerance).report()

@@ -101,7 +101,7 @@ def test_export_writes_a_dxf_and_reports(tmp_path, capsys):
     target = tmp_path / "wheel.dxf"
     code, out, err = run(["export", example_path("geneva_z8"), "--element", "indexer", "--dxf", target], capsys)
     assert code == 0 and err == ""
-    assert "millimetres" in out and "no splines" in out and "relief radius" in out
+    assert "millimetres" in out and "exact lines and arcs" in out and "relief radius" in out
     doc = ezdxf.readfile(target)
     assert not doc.audit().has_errors and doc.header["$INSUNITS"] == 4
 
@@ -113,11 +113,13 @@ def test_export_to_an_unwritable_place_fails_cleanly(tmp_path, capsys):
 
 def test_a_drive_that_cannot_be_drawn_still_analyses_and_export_says_why(tmp_path, capsys):
     doc = json.loads(example_path("geneva_z6").read_text())
-    doc["elements"][0]["drawing"] = {"crank_bore_radius": 12.8}
+    doc["elements"][0]["drawing"] = {"crank_bore_radius": 11.5}
     p = tmp_path / "bore.json"
     p.write_text(json.dumps(doc))
     code, out, _ = run(["analyze", p, "--summary"], capsys)
-    assert code == 0 and "drawing: geneva 'indexer': drawing.crank_bore_radius = 12.8 mm" in out
+    assert code == 0 and "drawing: geneva 'indexer': drawing.crank_bore_radius = 11.5 mm" in out
+    code, out, _ = run(["validate", p], capsys)
+    assert code == 1 and "cannot be drawn" in out and "drawing.crank_bore_radius = 11.5 mm" in out
     code, out, err = run(["export", p, "--dxf", tmp_path / "w.dxf"], capsys)
     assert code == 1 and "crank_bore_radius" in err and not (tmp_path / "w.dxf").exists()
 

@@ -1,0 +1,93 @@
+"""``mechsketch export``: the cut-ready parts of any element as DXF or SVG; and the drawing check
+that ``mechsketch validate`` runs (the same parts, the same check, so a scene that validates
+exports).
+
+    mechsketch export SCENE [--element ID] (--dxf PATH | --svg PATH) [--layout assembled|apart]
+                      [--parts P,...] [--split] [--arcs bulge|entities] [--tolerance MM]
+                      [--min-web MM] [--boss-radius MM] [--bore-diameter MM] [--link-width MM]
+                      [--frame plate|drill] [--depth MM]
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+
+from ..analyses.parts import LAYOUTS, require_checked
+from ..analyses.parts_build import DEFAULT_TOLERANCE, PartOptions, element_parts, min_web_of
+from ..errors import MechsketchError, Problem, RequestError, StructureError
+from ..io.dxf_parts import ARC_STYLES
+from ..io.export_parts import export_parts
+from ..model.linkage import Linkage
+from ..workspace import Workspace
+
+
+def add_export_parser(sub) -> argparse.ArgumentParser:
+    """The ``export`` sub-command and its options."""
+    e = sub.add_parser("export", help="write the cut-ready parts of an element as DXF or SVG (mm), checked first")
+    e.add_argument("scene")
+    e.add_argument("--element", metavar="ID")
+    out = e.add_mutually_exclusive_group(required=True)
+    out.add_argument("--dxf", metavar="PATH", help="write DXF R2010 in millimetres")
+    out.add_argument("--svg", metavar="PATH", help="write SVG in millimetres")
+    e.add_argument("--layout", choices=LAYOUTS, default="apart",
+                   help="apart: parts side by side, named (default); assembled: in the mechanism's pose")
+    e.add_argument("--parts", metavar="P,...", help="only these parts (names as in the report)")
+    e.add_argument("--split", action="store_true", help="one file per part: PATH_NAME.ext")
+    e.add_argument("--arcs", choices=ARC_STYLES, default="bulge",
+                   help="DXF: bulge polylines (default) or LINE/ARC entities for older readers")
+    e.add_argument("--tolerance", type=float, default=DEFAULT_TOLERANCE, metavar="MM",
+                   help="largest deviation of fitted curves (rolling profiles, coupler curves)")
+    e.add_argument("--min-web", dest="min_web", type=float, metavar="MM",
+                   help="thinnest web every part must keep (default: the element's drawing.min_web or 1)")
+    e.add_argument("--boss-radius", dest="boss_radius", type=float, metavar="MM", help="linkage plates")
+    e.add_argument("--bore-diameter", dest="bore_diameter", type=float, metavar="MM", help="linkage bores")
+    e.add_argument("--link-width", dest="link_width", type=float, metavar="MM", help="binary link bar width")
+    e.add_argument("--frame", choices=("plate", "drill"), default="plate",
+                   help="a linkage's frame as a plate or as the drilling pattern of its pivots")
+    e.add_argument("--depth", type=float, metavar="MM", help="rolling-lever frame and slider plates")
+    return e
+
+
+def options_of(args: argparse.Namespace) -> PartOptions:
+    """The part options of parsed ``export`` arguments."""
+    return PartOptions(tolerance=args.tolerance, min_web=args.min_web, boss_radius=args.boss_radius,
+                       bore_diameter=args.bore_diameter, link_width=args.link_width, frame=args.frame,
+                       depth=args.depth)
+
+
+def _plan(ws: Workspace, el):
+    return ws.plan(el.id) if isinstance(el, Linkage) else None
+
+
+def run_export(ws: Workspace, args: argparse.Namespace) -> str:
+    """Build, check and write the parts; returns the report."""
+    scene = ws.scene
+    if args.element is not None:
+        el = scene.element(args.element)
+    elif scene.elements:
+        el = scene.elements[0]
+        if len(scene.elements) > 1:
+            print(f"note: using element {el.id!r} (choose with --element ID)", file=sys.stderr)
+    else:
+        raise RequestError("the scene has no element to export")
+    opts = options_of(args)
+    names = [n.strip() for n in args.parts.split(",") if n.strip()] if args.parts else None
+    ps = element_parts(el, opts, _plan(ws, el))
+    fmt, path = ("dxf", args.dxf) if args.dxf is not None else ("svg", args.svg)
+    return export_parts(ps, path, fmt, args.layout, names, args.split, args.arcs, min_web_of(el, opts)).report
+
+
+def drawing_problems(ws: Workspace) -> list[Problem]:
+    """Elements that load but whose parts cannot be cut with the default options (the check the
+    export runs): a drive that validates always exports."""
+    out = []
+    opts = PartOptions()
+    for k, el in enumerate(ws.scene.elements):
+        try:
+            ps = element_parts(el, opts, _plan(ws, el))
+            require_checked(ps, min_web_of(el, opts))
+        except StructureError:
+            continue  # reported by the structure check
+        except MechsketchError as exc:
+            out.append(Problem(f"$.elements[{k}]", f"cannot be drawn: {exc}", el.id))
+    return out
