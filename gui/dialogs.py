@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from typing import Protocol
 
-from PySide6.QtWidgets import QFileDialog, QMessageBox, QWidget
+from PySide6.QtWidgets import QDialog, QFileDialog, QMessageBox, QWidget
 
 SCENE_FILTER = "mechsketch scenes (*.json);;All files (*)"
 
@@ -36,6 +36,11 @@ class DialogService(Protocol):
 
     def info(self, title: str, text: str) -> None:
         """Tell the user something (the About box)."""
+
+    def export_request(self, title: str, choices: dict, default_id: str, fmt: str,
+                       min_webs: dict | None = None):
+        """The export options (an :class:`~mechsketch.gui.export_dialog.ExportRequest`) for one of
+        the elements ``choices`` (id -> part names), or None if the user cancelled."""
 
 
 class QtDialogService:
@@ -80,3 +85,10 @@ class QtDialogService:
 
     def info(self, title: str, text: str) -> None:
         QMessageBox.information(self.parent, title, text)
+
+    def export_request(self, title: str, choices: dict, default_id: str, fmt: str,
+                       min_webs: dict | None = None):
+        from .export_dialog import ExportDialog
+
+        dlg = ExportDialog(title, choices, default_id, fmt, min_webs, self.parent)
+        return dlg.request() if dlg.exec() == QDialog.DialogCode.Accepted else None

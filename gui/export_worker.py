@@ -1,9 +1,10 @@
-"""DXF export of a Geneva drive or a rolling lever off the GUI thread, with progress and Cancel.
+"""Export of any element's cut-ready parts (DXF or SVG) off the GUI thread, with progress and Cancel.
 
 :class:`DxfExporter` runs one :class:`ExportTask` at a time on its own ``QThreadPool``. A task
-works in two stages: it first builds what will be drawn (the drive's exact geometry, or the
-lever's synthesis), then - unless Cancel was pressed meanwhile - writes the file with the core's
-exporter (atomic: a temporary file, then a rename). Cancel therefore means "nothing is written"
+works in two stages: it first builds the parts (:func:`~mechsketch.core.analyses.parts_build.
+element_parts`: a drive's exact geometry, a lever's synthesis, a linkage's solve for its slots and
+coupler curves), then - unless Cancel was pressed meanwhile - checks and writes them with the
+core's exporter (atomic: a temporary file, then a rename). Cancel therefore means "nothing is written"
 whenever it arrives before the write starts; a write already under way finishes (it takes a few
 milliseconds). The element is an immutable record, so the user may keep editing meanwhile.
 
@@ -20,13 +21,18 @@ from pathlib import Path
 from PySide6.QtCore import QObject, QRunnable, QThreadPool, Signal
 from PySide6.QtWidgets import QHBoxLayout, QLabel, QProgressBar, QToolButton, QWidget
 
+from mechsketch.core.analyses import parts_build
 from mechsketch.core.errors import MechsketchError
+from mechsketch.core.io.export_parts import export_parts
 from mechsketch.core.model.geneva import Geneva
+from mechsketch.core.model.linkage import Linkage
 from mechsketch.core.model.rolling_lever import RollingLever
 
-#: the DXF tolerance for freeform profiles (mm), as ``mechsketch export`` uses by default
-DEFAULT_TOLERANCE = 0.001
-EXPORTABLE = (Geneva, RollingLever)
+from .export_dialog import ExportRequest
+
+#: the tolerance of fitted curves (mm), as ``mechsketch export`` uses by default
+DEFAULT_TOLERANCE = parts_build.DEFAULT_TOLERANCE
+EXPORTABLE = (Geneva, RollingLever, Linkage)
 
 
 class _Signals(QObject):
@@ -40,14 +46,15 @@ class _Signals(QObject):
 
 
 class ExportTask(QRunnable):
-    """Export ``element`` to ``path`` (DXF, mm); see the module docstring for the two stages."""
+    """Export ``element``'s parts to ``path`` as ``request`` says (default: DXF, apart, all
+    parts); see the module docstring for the two stages."""
 
-    def __init__(self, element, path: str, tolerance: float = DEFAULT_TOLERANCE) -> None:
+    def __init__(self, element, path: str, request: ExportRequest | None = None) -> None:
         super().__init__()
         self.setAutoDelete(False)
         self.element = element
         self.path = str(path)
-        self.tolerance = tolerance
+        self.request = request if request is not None else ExportRequest(element.id)
         self.signals = _Signals()
         self._cancel = threading.Event()
 
@@ -67,32 +74,19 @@ class ExportTask(QRunnable):
             self.signals.done.emit()
 
     def _run(self) -> None:
-        el = self.element
+        el, req = self.element, self.request
         try:
-            if isinstance(el, Geneva):
-                from mechsketch.core.analyses.geneva_geometry import geometry
-                from mechsketch.core.io.dxf_geneva import export_geneva
-
-                self.signals.progress.emit(f"building the exact outline of {el.id}…")
-                geometry(el)
-                if self._stopped():
-                    return
-                self.signals.progress.emit(f"writing {Path(self.path).name}…")
-                report = export_geneva(el, self.path)
-            else:
-                from mechsketch.core.analyses.rolling_synthesis import synthesize
-                from mechsketch.core.io.dxf_rolling import export_rolling
-
-                self.signals.progress.emit(f"synthesising the profiles of {el.id}…")
-                res = synthesize(el, measures=False)
-                if self._stopped():
-                    return
-                self.signals.progress.emit(f"fitting arcs and writing {Path(self.path).name}…")
-                report = export_rolling(res, self.path, self.tolerance).report()
+            self.signals.progress.emit(f"building the parts of {el.id}…")
+            ps = parts_build.element_parts(el, req.options)
+            if self._stopped():
+                return
+            self.signals.progress.emit(f"checking and writing {Path(self.path).name}…")
+            exp = export_parts(ps, self.path, req.fmt, req.layout, req.parts, req.split, req.arcs,
+                               parts_build.min_web_of(el, req.options))
         except (MechsketchError, OSError, ValueError) as exc:
             self.signals.failed.emit(str(exc))
             return
-        self.signals.finished.emit(report)
+        self.signals.finished.emit(exp.report)
 
     def _stopped(self) -> bool:
         if self._cancel.is_set():
@@ -121,11 +115,11 @@ class DxfExporter(QObject):
     def busy(self) -> bool:
         return self.task is not None
 
-    def start(self, element, path: str, tolerance: float = DEFAULT_TOLERANCE) -> bool:
+    def start(self, element, path: str, request: ExportRequest | None = None) -> bool:
         """Start exporting ``element`` to ``path``; False (nothing started) if one is running."""
         if self.task is not None:
             return False
-        task = ExportTask(element, path, tolerance)
+        task = ExportTask(element, path, request)
         for name in ("progress", "finished", "failed", "cancelled"):
             getattr(task.signals, name).connect(getattr(self, name))
         task.signals.done.connect(self._done)
@@ -174,5 +168,5 @@ class ExportStatus(QWidget):
 
 
 def exportable(element) -> bool:
-    """True for the element types the app exports as DXF (Geneva drives, rolling levers)."""
+    """True for the element types the app exports (linkages, Geneva drives, rolling levers)."""
     return isinstance(element, EXPORTABLE)

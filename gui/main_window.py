@@ -17,6 +17,7 @@ from PySide6.QtGui import QAction, QCloseEvent, QKeySequence
 from PySide6.QtWidgets import QDockWidget, QLabel, QMainWindow, QMenu, QVBoxLayout, QWidget
 
 from mechsketch.core import ExportError
+from mechsketch.core.analyses.parts_build import PartOptions, min_web_of, part_names
 
 from .autosave import Autosave
 from .controller import SceneController
@@ -155,7 +156,9 @@ class MainWindow(QMainWindow):
         self._action("export_csv", "Export plot &data as CSV…", self.export_plot_csv,
                      tip="Save the plotted numbers as CSV")
         self._action("export_dxf", "Export &DXF…", self.export_dxf, "Ctrl+E",
-                     "Write the selected Geneva drive or rolling lever as a DXF drawing (mm)")
+                     "Write the selected element's cut-ready parts as a DXF drawing (mm)")
+        self._action("export_svg", "Export S&VG…", self.export_svg,
+                     tip="Write the selected element's cut-ready parts as SVG (mm; laser cutters)")
         self._action("quit", "&Quit", self.close, K.Quit)
         undo = self.controller.undo_stack.createUndoAction(self, "&Undo")
         undo.setShortcut(QKeySequence(K.Undo))
@@ -180,7 +183,7 @@ class MainWindow(QMainWindow):
         file_menu.addMenu(self.recent_menu)
         file_menu.addActions([a["save"], a["save_as"]])
         file_menu.addSeparator()
-        file_menu.addActions([a["export_dxf"], a["export_png"], a["export_csv"]])
+        file_menu.addActions([a["export_dxf"], a["export_svg"], a["export_png"], a["export_csv"]])
         self._add_extra(file_menu, "file")
         file_menu.addSeparator()
         file_menu.addAction(a["quit"])
@@ -302,7 +305,7 @@ class MainWindow(QMainWindow):
         return self._export("Export plot data as CSV", ".csv", "CSV files (*.csv)", self.plots.export_csv)
 
     def export_target(self):
-        """The Geneva drive or rolling lever to export: the selected one, else the only one."""
+        """The element to export: the selected one, else the only one (None if there are several)."""
         scene = self.controller.scene
         for eid, kind, _ in self.controller.selection:
             if kind == ELEMENT and eid in scene.ids and exportable(scene.element(eid)):
@@ -311,28 +314,45 @@ class MainWindow(QMainWindow):
         return candidates[0] if len(candidates) == 1 else None
 
     def export_dxf(self) -> bool:
-        """Ask for a file and export the target element as DXF off the GUI thread (True: started)."""
+        """Ask for the options and a file, then export the parts as DXF off the GUI thread."""
+        return self.export_parts("dxf")
+
+    def export_svg(self) -> bool:
+        """Ask for the options and a file, then export the parts as SVG off the GUI thread."""
+        return self.export_parts("svg")
+
+    def export_parts(self, fmt: str) -> bool:
+        """The export dialog (element, parts, layout, tolerance, entities, minimum web), the file
+        name, then the export off the GUI thread with progress and Cancel (True: started)."""
         if self.exporter.busy:
             self.show_message("an export is running: wait for it or cancel it")
             return False
-        el = self.export_target()
-        if el is None:
-            many = sum(exportable(e) for e in self.controller.scene.elements) > 1
-            self.show_message("select the Geneva drive or rolling lever to export (click it on the canvas)"
-                              if many else "nothing to export: DXF export is for Geneva drives and rolling levers")
+        scene = self.controller.scene
+        elements = [e for e in scene.elements if exportable(e)]
+        if not elements:
+            self.show_message("nothing to export: draw a linkage, a Geneva drive or a rolling lever first")
             return False
+        target = self.export_target() or elements[0]
+        choices = {e.id: part_names(e) for e in elements}
+        min_webs = {e.id: min_web_of(e, PartOptions()) for e in elements}
+        title = f"Export {fmt.upper()}"
+        req = self.dialogs.export_request(title, choices, target.id, fmt, min_webs)
+        if req is None:
+            return False
+        el = scene.element(req.element_id)
         folder = self.controller.path.parent if self.controller.path else Path.home()
-        name = self.dialogs.save_file_name(f"Export {el.id} as DXF", str(folder / f"{el.id}.dxf"),
-                                           "DXF drawings (*.dxf)")
+        name = self.dialogs.save_file_name(f"Export {el.id} as {fmt.upper()}", str(folder / f"{el.id}.{fmt}"),
+                                           "DXF drawings (*.dxf)" if fmt == "dxf" else "SVG drawings (*.svg)")
         if not name:
             return False
-        target = Path(name) if Path(name).suffix else Path(name).with_suffix(".dxf")
-        self.show_message(f"exporting {el.id} to {target}…")
-        return self.exporter.start(el, str(target))
+        path = Path(name) if Path(name).suffix else Path(name).with_suffix(f".{fmt}")
+        self.show_message(f"exporting {el.id} to {path}…")
+        self._export_title = f"{fmt.upper()} exported"
+        return self.exporter.start(el, str(path), req)
 
     def _export_finished(self, report: str) -> None:
         self.show_message(report.splitlines()[0] if report else "exported")
-        self.dialogs.info("DXF exported", report)
+        self.dialogs.info(getattr(self, "_export_title", "DXF exported"), report)
 
     def _export_failed(self, message: str) -> None:
         self.show_message(message)

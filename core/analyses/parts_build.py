@@ -63,3 +63,15 @@ def element_parts(element, options: PartOptions = PartOptions(), plan: Plan | No
                              RollingStyle(depth=options.depth, tolerance=options.tolerance))
     raise GeometryError(f"element {getattr(element, 'id', '?')!r} of type {getattr(element, 'type', '?')!r} "
                         "has no parts to export")
+
+
+def part_names(element) -> tuple[str, ...]:
+    """The names of the parts ``element`` will have, without building them (for a dialog's list;
+    a linkage may add a ``LINK_guide_JOINT`` plate where a block's travel passes over a pin)."""
+    if isinstance(element, Geneva):
+        return ("wheel", "locking_disc", "crank_arm", "roller")
+    if isinstance(element, Linkage):
+        return element.link_ids
+    if isinstance(element, RollingLever):
+        return ("frame", "frame_pivots", "lever", "slider")
+    return ()

@@ -30,6 +30,7 @@ class FakeDialogs:
         self.errors: list[tuple[str, str, str]] = []
         self.questions: list[tuple[str, str]] = []
         self.infos: list[tuple[str, str]] = []
+        self.export_requests: deque = deque()
 
     def open_file_name(self, title, directory="", filter=""):
         self.questions.append((title, directory))
@@ -52,6 +53,17 @@ class FakeDialogs:
 
     def info(self, title, text):
         self.infos.append((title, text))
+
+    def export_request(self, title, choices, default_id, fmt, min_webs=None):
+        """The next queued ExportRequest (a callable gets the arguments), else the dialog's defaults."""
+        from mechsketch.gui.export_dialog import ExportRequest
+
+        self.questions.append((title, default_id))
+        self.export_choices = choices
+        if self.export_requests:
+            req = self.export_requests.popleft()
+            return req(default_id, fmt) if callable(req) else req
+        return ExportRequest(default_id, fmt)
 
 
 def stand_in_components(controller, window) -> CanvasParts:
