@@ -8,6 +8,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import stat
 import sys
 from pathlib import Path
 from typing import Any, Callable
@@ -191,24 +192,59 @@ def element_problems(element: Any) -> list[Problem]:
     return scene_from_dict(doc, f"element {getattr(element, 'id', '?')}")[1]
 
 
+def _kind(mode: int) -> str:
+    """What a non-regular file is, in words."""
+    for test, name in ((stat.S_ISDIR, "a folder"), (stat.S_ISFIFO, "a FIFO (named pipe)"),
+                       (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
+                       (stat.S_ISSOCK, "a socket")):
+        if test(mode):
+            return name
+    return "not a plain file"
+
+
 def read_scene_text(path: str | os.PathLike) -> tuple[Any, list[Problem]]:
-    """Read and parse a scene file's JSON (size-limited); returns (document, problems)."""
+    """Read and parse a scene file's JSON; returns (document, problems).
+
+    Only a regular file is read (a device such as /dev/zero, a FIFO or a socket is refused
+    before anything is read, without blocking), and at most :data:`MAX_FILE_BYTES` + 1 bytes of
+    it whatever its size claims (a file that grows, a /proc file of size 0).
+    """
     p = Path(path)
     try:
-        size = p.stat().st_size
+        fd = os.open(p, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0))
     except FileNotFoundError:
         return None, [Problem("$", f"no such file: {p}")]
-    except OSError as exc:
-        return None, [Problem("$", f"cannot read {p}: {exc.strerror or exc}")]
-    if p.is_dir():
+    except IsADirectoryError:
         return None, [Problem("$", f"{p} is a folder, not a scene file")]
-    if size > MAX_FILE_BYTES:
-        return None, [Problem("$", f"file is {size / 1e6:.1f} MB; scene files are limited to "
-                                   f"{MAX_FILE_BYTES / 1e6:.0f} MB")]
-    try:
-        raw = p.read_bytes()
     except OSError as exc:
         return None, [Problem("$", f"cannot read {p}: {exc.strerror or exc}")]
+    try:
+        st = os.fstat(fd)
+        if not stat.S_ISREG(st.st_mode):
+            what = _kind(st.st_mode)
+            if what == "a folder":
+                return None, [Problem("$", f"{p} is a folder, not a scene file")]
+            return None, [Problem("$", f"{p} is not a regular file ({what}): a scene file is a "
+                                       "plain .json file")]
+        limit = MAX_FILE_BYTES
+        if st.st_size > limit:
+            return None, [Problem("$", f"file is {st.st_size / 1e6:.1f} MB; scene files are limited to "
+                                       f"{limit / 1e6:.0f} MB")]
+        chunks, total = [], 0
+        while total <= limit:
+            chunk = os.read(fd, min(1 << 20, limit + 1 - total))
+            if not chunk:
+                break
+            chunks.append(chunk)
+            total += len(chunk)
+        if total > limit:
+            return None, [Problem("$", f"file is over {limit / 1e6:.0f} MB (it grew while being read); "
+                                       f"scene files are limited to {limit / 1e6:.0f} MB")]
+        raw = b"".join(chunks)
+    except OSError as exc:
+        return None, [Problem("$", f"cannot read {p}: {exc.strerror or exc}")]
+    finally:
+        os.close(fd)
     try:
         text = raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:

@@ -42,6 +42,7 @@ from ..model.linkage import Linkage
 from ..model.rolling_lever import RollingLever
 from ..solver.diagnostics import Diagnostics, diagnose
 from ..solver.plan import Plan, Solution, compile_plan
+from .budget import check_request
 
 #: frames of a rolling lever's animation cycle: 2·points, at least this many
 ROLLING_MIN_FRAMES = 360
@@ -128,6 +129,7 @@ def solve_linkage(element: Linkage, samples: int | None = None, plan: Plan | Non
     t0 = time.perf_counter()
     res = LinkageResult(element)
     try:
+        check_request(element, samples or element.samples)
         res.plan = plan if from_plan else compile_plan(element)
         res.solution = res.plan.sweep(samples=samples or element.samples, order=2)
     except MechsketchError as exc:
@@ -198,6 +200,7 @@ def solve_geneva(element: Geneva, samples: int | None = None) -> GenevaResult:
     res = GenevaResult(element)
     n = int(samples or element.samples)
     try:
+        check_request(element, n)
         res.kinematics = kinematics(element, n)
         res.contact = contact(element, n, element.model)
     except MechsketchError as exc:

@@ -34,6 +34,7 @@ from ..model.linkage import Linkage
 from ..model.scene import Scene
 from ..solver.incremental import moved_joints, resweep, topology_key
 from ..solver.plan import Plan, Solution, compile_plan
+from .budget import check_request
 from .facade import ElementView
 from .results import ElementResult, LinkageResult, RollingResult, solve_element, solve_linkage
 
@@ -409,6 +410,7 @@ class Workspace:
         if key in self._requests:
             self._requests.move_to_end(key)
             return self._requests[key]
+        check_request(el, n)
         sol = self.plan(element_id).sweep(samples=n, order=order, joints=jkey)
         self.stats["solve:request"] += 1
         self._store(self._requests, key, sol)
