@@ -128,11 +128,12 @@ def run(args: argparse.Namespace) -> int:
         if not problems:
             print(f"{args.scene}: ok")
         return 0 if not problems else 1
+    samples = getattr(args, "samples", None)   # analyze, centrodes: one check for both
+    if samples is not None and not 2 <= samples <= MAX_SAMPLES:
+        raise CliError(f"--samples must be from 2 to {MAX_SAMPLES:,}, got {samples:,}")
     ws = Workspace(load_scene(args.scene))
     scene = ws.scene
     if args.command == "analyze":
-        if args.samples is not None and not 2 <= args.samples <= MAX_SAMPLES:
-            raise CliError(f"--samples must be from 2 to {MAX_SAMPLES:,}, got {args.samples:,}")
         el = _pick(scene, args.element, "analyze")
         ws.samples = args.samples
         _emit(_handler(el, "analyze_forces" if args.forces else "analyze")(ws, el.id), args.csv, args.summary)
