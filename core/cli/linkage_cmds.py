@@ -12,9 +12,16 @@ from ..workspace import Workspace
 from . import Analysis
 
 
+RATE_COLUMNS = ("vx", "vy", "ax", "ay", "omega", "alpha")
+
+
 def analysis_table(linkage: Linkage, sol) -> Table:
     """Columns: t, input, per joint J.x J.y J.vx J.vy J.ax J.ay, per moving link K.angle K.omega
-    K.alpha, valid (mm, mm/s, mm/s², rad, rad/s, rad/s²; 1/0)."""
+    K.alpha, valid, rates_valid (mm, mm/s, mm/s², rad, rad/s, rad/s²; 1/0).
+
+    ``valid``: the pose is known (every position and angle of the row is a finite number);
+    ``rates_valid``: so are its velocities and accelerations (0 at an exact toggle or change point,
+    where they are singular, or where they overflow). Fields not covered by the flags are empty."""
     cols: dict[str, np.ndarray] = {"t": sol.t, "input": sol.input}
     for j in linkage.joint_ids:
         p, v, a = sol.position(j), sol.velocity(j), sol.acceleration(j)
@@ -25,8 +32,21 @@ def analysis_table(linkage: Linkage, sol) -> Table:
         cols[f"{k}.angle"] = sol.angle(k)
         cols[f"{k}.omega"] = sol.omega(k)
         cols[f"{k}.alpha"] = sol.alpha(k)
-    cols["valid"] = sol.valid.astype(float)
-    return Table.from_columns(cols, integer={"valid"})
+    rate_names = [c for c in cols if c.rsplit(".", 1)[-1] in RATE_COLUMNS and "." in c]
+    pose_names = [c for c in cols if c not in rate_names and c not in ("t", "input")]
+    valid = sol.valid.copy()
+    for c in pose_names:
+        valid &= np.isfinite(cols[c])
+    rates = valid & sol.rates_valid
+    for c in rate_names:
+        rates &= np.isfinite(cols[c])
+    for c in pose_names:
+        cols[c] = np.where(valid, cols[c], np.nan)
+    for c in rate_names:
+        cols[c] = np.where(rates, cols[c], np.nan)
+    cols["valid"] = valid.astype(float)
+    cols["rates_valid"] = rates.astype(float)
+    return Table.from_columns(cols, integer={"valid", "rates_valid"})
 
 
 def analyze(ws: Workspace, element_id: str) -> Analysis:

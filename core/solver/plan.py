@@ -17,8 +17,8 @@ from ..errors import GeometryError, RequestError, UnknownIdError
 from ..model.linkage import JointKind, Linkage
 from . import kernels as K
 from .branches import find_branch_points, flip_factor
-from .structure import Group, GroupKind, decompose, mobility
-from .tolerances import SINGULAR_REL, TOGGLE_COND, TOUCH_REL
+from .structure import MODAL_KINDS, Group, GroupKind, decompose, mobility
+from .tolerances import RATE_REL, SINGULAR_REL, TOGGLE_COND, TOUCH_REL
 
 __all__ = ["TOGGLE_COND", "TOUCH_REL", "Plan", "Solution", "Step", "compile_plan", "unwrap_finite"]
 
@@ -344,9 +344,39 @@ class Solution:
         self._states = states
         self._outs = outs
         self._all_valid = bool(valid.all())
+        self._rates_valid: np.ndarray | None = None
 
     def __len__(self) -> int:
         return self.input.shape[0]
+
+    @property
+    def rates_valid(self) -> np.ndarray:
+        """(N,) bool: ``valid`` samples whose velocities (and accelerations, at order 2) are given:
+        every solved group's velocity system is conditioned so that the rates' estimated relative
+        error, 8·eps·(1 + coordinates/size)/cond² (/cond for PRP and RPP), is below
+        :data:`~.tolerances.RATE_REL` — not at a toggle or change point, where they are 0/0 or
+        rounding noise — and every link's rates are finite (no overflow at extreme speed).
+        All False for a solve of order 0."""
+        if self.order < 1:
+            return np.zeros(len(self), dtype=bool)
+        if self._rates_valid is None:
+            ok = self.valid.copy()
+            eps = np.finfo(float).eps
+            with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+                for step in self.plan.steps:
+                    out = self._outs.get(step.group.name)
+                    if out is None or step.group.fixed:
+                        continue
+                    c = np.broadcast_to(np.asarray(out.cond, dtype=float), ok.shape)
+                    if step.group.kind in MODAL_KINDS:
+                        c = c * c
+                    ok &= 8.0 * eps * (1.0 + step.coord / step.scale) <= RATE_REL * c
+                for st in self._states.values():
+                    rates = [st.vA, st.omega] + ([st.aA, st.alpha] if self.order >= 2 else [])
+                    for r in rates:
+                        ok &= np.broadcast_to(np.isfinite(np.asarray(r)), ok.shape)
+            self._rates_valid = ok
+        return self._rates_valid
 
     @property
     def singular(self) -> np.ndarray:

@@ -19,4 +19,9 @@ BRANCH_REL = 8 * np.finfo(float).eps
 #: singular (reported, not solved; its position error would be ~eps·size²/distance)
 SINGULAR_REL = 1.5e-8
 
-__all__ = ["BRANCH_REL", "SINGULAR_REL", "TOGGLE_COND", "TOUCH_REL"]
+#: velocities and accelerations of a sample are given (``rates_valid``) where their estimated
+#: relative error stays below RATE_REL: 8·eps·(1 + coordinates/size)/cond² for the two-mode groups
+#: near a toggle (rates lose eps·size/gap and gap ≈ size·cond²/8), /cond for PRP and RPP
+RATE_REL = 1e-6
+
+__all__ = ["BRANCH_REL", "RATE_REL", "SINGULAR_REL", "TOGGLE_COND", "TOUCH_REL"]

@@ -46,7 +46,7 @@ def expected_columns(lk):
         cols += [f"{j}.{q}" for q in ("x", "y", "vx", "vy", "ax", "ay")]
     for k in lk.moving_links:
         cols += [f"{k}.angle", f"{k}.omega", f"{k}.alpha"]
-    return cols + ["valid"]
+    return cols + ["valid", "rates_valid"]
 
 
 @pytest.mark.parametrize("name,n", [("fourbar_crank_rocker", 36), ("sixbar_moving_guide", 50),
