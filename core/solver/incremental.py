@@ -23,13 +23,14 @@ from .plan import Plan, Solution
 
 
 def topology_key(linkage: Linkage) -> tuple:
-    """What the structural decomposition depends on: joint ids and kinds, links, ground, driver.
+    """What the structural decomposition depends on: joint ids and kinds, links, ground, driver
+    (its link, pivot and kind).
 
     Two linkages with equal keys decompose into the same groups (only drawn positions differ).
     """
     drv = linkage.driver
     return (tuple((j.id, j.kind) for j in linkage.joints), tuple((k.id, k.joints) for k in linkage.links),
-            linkage.ground, drv.link, drv.pivot)
+            linkage.ground, drv.link, drv.pivot, drv.kind)
 
 
 def moved_joints(old: Linkage, new: Linkage) -> frozenset[str] | None:
@@ -82,10 +83,12 @@ def resweep(old: Solution, plan: Plan, moved: Iterable[str]) -> Solution | None:
     start = time.perf_counter()
     states = dict(old._states)
     outs = dict(old._outs)
-    fresh = plan.run_steps(old.input, old.order, sorted(dirty), branches, old.omega_driver, 0.0, states)
+    fresh = plan.run_steps(old.input, old.order, sorted(dirty), branches, old.omega_driver, old.alpha_driver,
+                           states)
     outs.update(fresh)
     valid = np.ones(old.input.shape, dtype=bool)
     for out in outs.values():
         valid &= out.ok
     elapsed = time.perf_counter() - start
-    return Solution(plan, old.input, old.order, states, outs, valid, old.omega_driver, old.t, elapsed)
+    return Solution(plan, old.input, old.order, states, outs, valid, old.omega_driver, old.t, elapsed,
+                    old.alpha_driver)

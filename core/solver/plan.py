@@ -14,9 +14,12 @@ from typing import Callable, Iterable
 import numpy as np
 
 from ..errors import GeometryError, RequestError, UnknownIdError
+from ..model.drivers import DriverKind
 from ..model.linkage import JointKind, Linkage
 from . import kernels as K
 from .branches import find_branch_points, flip_factor
+from .drive import CrankDrive, find_linear_branch_points, linear_flip, make_drive
+from .motion_law import cycle
 from .structure import MODAL_KINDS, Group, GroupKind, decompose, mobility
 from .tolerances import RATE_REL, SINGULAR_REL, TOGGLE_COND, TOUCH_REL
 
@@ -52,6 +55,8 @@ class Plan:
     solved_by: dict[str, int] = field(default_factory=dict)  # link -> step index (-1: driver/ground)
     coord_scale: float = 0.0          # largest drawn coordinate magnitude, mm
     _branches: dict[str, np.ndarray] | None = field(default=None, repr=False)
+    #: how the input enters (crank, slider, cylinder: :mod:`.drive`); ``theta0`` is its drawn input
+    drive: CrankDrive | None = field(default=None, repr=False)
     _local: "Plan | None" = field(default=None, repr=False)
 
     def local(self) -> "Plan":
@@ -116,8 +121,16 @@ class Plan:
         idx = range(len(self.steps)) if steps is None else steps
         todo = [k for k in idx if self.steps[k].group.name not in self._branches]
         if todo:
-            find_branch_points(self, todo, self._branches)
+            if self.drive is not None and self.drive.linear:   # inputs (mm) along the stroke
+                find_linear_branch_points(self, todo, self._branches)
+            else:
+                find_branch_points(self, todo, self._branches)
         return self._branches
+
+    @property
+    def input_unit(self) -> str:
+        """Unit of the input (``Solution.input``): ``"rad"`` (crank angle) or ``"mm"`` (actuator)."""
+        return self.drive.unit if self.drive is not None else "rad"
 
     def run_steps(self, inputs: np.ndarray, order: int, idx: Iterable[int],
                   branches: dict[str, np.ndarray], omega: float | None = None, alpha: float = 0.0,
@@ -128,7 +141,11 @@ class Plan:
         if states is None:
             states = {}
         states[self.linkage.ground] = K.ground_state()
-        states[drv.link] = K.crank(self.pivot, self.theta0, inputs, w, alpha, order)
+        if self.drive is None:
+            states[drv.link] = K.crank(self.pivot, self.theta0, inputs, w, alpha, order)
+        else:
+            self.drive.set_states(states, inputs, w, alpha, order)
+        linear = self.drive is not None and self.drive.linear
         outs: dict[str, K.DyadOut] = {}
         with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
             for k in idx:
@@ -136,7 +153,9 @@ class Plan:
                 if step.group.fixed:
                     out = _held(step.run(states, order, None), inputs.shape, order)
                 else:
-                    flip = flip_factor(branches.get(step.group.name), inputs, self.theta0, self.direction)
+                    offsets = branches.get(step.group.name)
+                    flip = (linear_flip(offsets, inputs, self.theta0) if linear else
+                            flip_factor(offsets, inputs, self.theta0, self.direction))
                     out = step.run(states, order, flip)
                 # assembled only where the solved poses are finite: the kernels' arithmetic can
                 # break down although their assembly test passed (outer joints exactly
@@ -150,7 +169,9 @@ class Plan:
 
     def evaluate(self, inputs, order: int = 2, omega: float | None = None, alpha: float = 0.0,
                  joints: Iterable[str] | None = None, t=None) -> "Solution":
-        """Solve at driver angles ``inputs`` (rad, shape (N,)), with driver speed ``omega`` (rad/s).
+        """Solve at driver inputs ``inputs`` (shape (N,): crank angles, rad; actuator lengths or
+        displacements, mm — see :attr:`input_unit`), with the input's rate ``omega`` (rad/s or
+        mm/s) and acceleration ``alpha`` (rad/s² or mm/s²), scalars or (N,) arrays.
 
         ``order`` 0: positions; 1: + velocities; 2: + accelerations. ``joints``: only what these
         depend on is computed. Each group keeps its drawn assembly mode, switched only at branch
@@ -162,24 +183,31 @@ class Plan:
         branches = self.branch_points(idx)
         start = time.perf_counter()
         inputs = np.asarray(inputs, dtype=float).reshape(-1)
-        w = self.omega if omega is None else float(omega)
+        w = self.omega if omega is None else (float(omega) if np.ndim(omega) == 0 else np.asarray(omega, float))
+        alpha = float(alpha) if np.ndim(alpha) == 0 else np.asarray(alpha, dtype=float)
         states: dict[str, K.LinkState] = {}
         outs = self.run_steps(inputs, order, idx, branches, w, alpha, states)
         valid = np.ones(inputs.shape, dtype=bool)
         for out in outs.values():
             valid &= out.ok
         elapsed = time.perf_counter() - start
-        return Solution(self, inputs, order, states, outs, valid, w, t, elapsed)
+        return Solution(self, inputs, order, states, outs, valid, w, t, elapsed, alpha)
 
     def sweep(self, samples: int | None = None, order: int = 2, joints: Iterable[str] | None = None
               ) -> "Solution":
-        """One driver revolution from the drawn pose, in the driver's direction, N samples.
+        """One cycle of the driver (T = 60/|rpm| s) in N samples at times t = k·T/N.
 
-        Sample k is at input θ0 + sign(ω)·2πk/N and time t = k·T/N (T = 60/|rpm| s).
+        A crank at constant speed: sample k is at input θ0 + sign(ω)·2πk/N, from the drawn pose in
+        the driver's direction. Any other law (:mod:`.motion_law`): the input, its rate and its
+        acceleration of the law at t_k (a crank from its drawn angle; an actuator over its stroke).
         """
         n = int(samples or self.linkage.samples)
         if n < 2:
             raise RequestError(f"samples must be at least 2, got {n}")
+        drv = self.linkage.driver
+        if drv.linear or not drv.law.is_constant:
+            m = cycle(drv, self.theta0, n)
+            return self.evaluate(m.q, order=order, omega=m.qd, alpha=m.qdd, joints=joints, t=m.t)
         k = np.arange(n)
         sgn = 1.0 if self.omega >= 0 else -1.0
         inputs = self.theta0 + sgn * (2.0 * math.pi / n) * k
@@ -277,18 +305,23 @@ def compile_plan(linkage: Linkage, groups: list[Group] | None = None) -> Plan:
     at one point) and compile its kernels, once. ``groups``: the decomposition of a linkage of the
     same topology (see :func:`mechsketch.core.solver.incremental.topology_key`), reused as is."""
     _check_lengths(linkage)
-    groups = decompose(linkage) if groups is None else list(groups)
-    steps = [_compile_step(linkage, g) for g in groups]
-    drv = linkage.driver
-    pivot = _c(linkage.joint(drv.pivot).at)
-    tip = next(j for j in linkage.link(drv.link).joints if j != drv.pivot)
-    d = _c(linkage.joint(tip).at) - pivot
-    theta0 = math.atan2(d.imag, d.real)
-    solved_by = {linkage.ground: -1, drv.link: -1}
+    if groups is None and linkage.driver.kind is DriverKind.CRANK:
+        groups = decompose(linkage)   # checks the crank (and a draft without one) first
+    drive = make_drive(linkage)
+    groups = drive.decompose(linkage) if groups is None else list(groups)
+    steps = []
+    for g in groups:
+        own = drive.compile_step(linkage, g)   # the group an actuator drives
+        steps.append(_compile_step(linkage, g) if own is None else Step(g, (g.known_i, g.known_j), *own))
+    pivot, theta0 = drive.pivot, drive.input0
+    solved_by = {linkage.ground: -1, **{k: -1 for k in drive.known}}
     for k, g in enumerate(groups):
         solved_by[g.link_i] = k
         solved_by[g.link_j] = k
-    order = [linkage.ground, drv.link] + [l for g in groups for l in (g.link_i, g.link_j)]
+    for extra, base in drive.extra.items():   # a cylinder's rod: solved with its barrel
+        solved_by[extra] = solved_by[base]
+    order = [linkage.ground, *drive.known] + [l for g in groups for l in (g.link_i, g.link_j)]
+    order += [extra for extra in drive.extra]
     file_order = linkage.link_ids
     reporter = {}
     for j in linkage.joints:
@@ -305,7 +338,7 @@ def compile_plan(linkage: Linkage, groups: list[Group] | None = None) -> Plan:
         v = pts[1] - pts[0] if len(pts) == 2 else 0j
         angle0[lk.id] = math.atan2(v.imag, v.real) if abs(v) > 0 else 0.0
     coord = max((abs(_c(j.at)) for j in linkage.joints), default=0.0)
-    return Plan(linkage, groups, steps, pivot, theta0, reporter, angle0, solved_by, coord)
+    return Plan(linkage, groups, steps, pivot, theta0, reporter, angle0, solved_by, coord, drive=drive)
 
 
 def _xy(z: np.ndarray, n: int) -> np.ndarray:
@@ -333,13 +366,18 @@ class Solution:
     Samples where some evaluated group cannot be assembled are NaN and ``valid`` is False there.
     """
 
-    def __init__(self, plan: Plan, inputs, order, states, outs, valid, omega, t, elapsed):
+    def __init__(self, plan: Plan, inputs, order, states, outs, valid, omega, t, elapsed, alpha=0.0):
         self.plan = plan
+        #: (N,) the driver's input at each sample: the crank angle (rad) or the actuator's length
+        #: (cylinder) or displacement along its guide (slider), mm — see ``plan.input_unit``
         self.input = inputs
         self.order = order
         self.valid = valid
+        #: the input's rate (rad/s or mm/s) and acceleration (rad/s² or mm/s²): scalars or (N,)
         self.omega_driver = omega
-        self.t = t if t is not None else (inputs - inputs[0]) / omega if omega else np.zeros_like(inputs)
+        self.alpha_driver = alpha
+        self.t = (t if t is not None else (inputs - inputs[0]) / omega if np.ndim(omega) == 0 and omega
+                  else np.zeros_like(inputs))
         self.elapsed = elapsed
         self._states = states
         self._outs = outs
@@ -460,7 +498,8 @@ class Solution:
     # -- links ----------------------------------------------------------------------------
     def rotation(self, link: str) -> np.ndarray:
         """(N,) rotation of ``link`` from its drawn pose, rad, unwrapped along the samples."""
-        if link == self.plan.linkage.driver.link:
+        drv = self.plan.linkage.driver
+        if link == drv.link and not drv.linear:
             rho = self.input - self.plan.theta0
         elif link == self.plan.linkage.ground:
             rho = np.zeros(len(self))

@@ -80,7 +80,8 @@ def mobility(linkage: Linkage) -> int:
 
 
 def _check_driver(linkage: Linkage) -> None:
-    """The driver must be a binary link turning about a revolute joint on the ground link."""
+    """The driver must be a crank (a link of two or more joints) turning about a revolute joint on
+    the ground link (actuators are decomposed by :mod:`.drive`)."""
     drv = linkage.driver
     ids = linkage.link_ids
     if linkage.ground not in ids:
@@ -90,9 +91,9 @@ def _check_driver(linkage: Linkage) -> None:
         raise StructureError(f"linkage {linkage.id!r} has no driver yet{what}: draw a crank with the "
                              "crank tool", links=(drv.link,) if drv.link else ())
     joints = linkage.link(drv.link).joints
-    if len(joints) != 2 or drv.pivot not in joints:
-        raise StructureError(f"driver {drv.link!r} must be a binary link with its pivot {drv.pivot!r}",
-                             joints=joints, links=(drv.link,))
+    if len(joints) < 2 or drv.pivot not in joints:   # a crank may carry any number of joints
+        raise StructureError(f"driver {drv.link!r} must carry its pivot {drv.pivot!r} and at least one "
+                             "other joint", joints=joints, links=(drv.link,))
     if drv.pivot not in linkage.link(linkage.ground).joints or linkage.joint(drv.pivot).kind is not JointKind.R:
         raise StructureError(f"driver pivot {drv.pivot!r} must be a revolute joint on the ground link",
                              joints=(drv.pivot,), links=(drv.link,))
