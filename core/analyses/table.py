@@ -6,6 +6,7 @@ file is :func:`mechsketch.core.io.table.write_csv`.
 """
 from __future__ import annotations
 
+import csv
 import io
 from dataclasses import dataclass, field
 
@@ -38,7 +39,9 @@ class Table:
         return buf.getvalue()
 
     def write(self, fh) -> None:
-        fh.write(",".join(self.columns) + "\n")
+        """CSV: the header quoted as the csv module does (a name holding a comma, a quote or a
+        line break is quoted, its quotes doubled), then one row per sample."""
+        csv.writer(fh, lineterminator="\n").writerow(self.columns)
         ints = [c in self.integer for c in self.columns]
         for row in self.data:
             fh.write(",".join("" if not np.isfinite(v) else (str(int(v)) if isint else repr(float(v)))

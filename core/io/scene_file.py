@@ -109,6 +109,8 @@ def _schema_problems(schema: dict, data: Any, base: str, id: str | None) -> list
         msg = err.message
         if err.validator == "additionalProperties":
             msg = msg.replace("Additional properties are not allowed", "unknown key(s)")
+        elif err.validator == "pattern" and isinstance(err.schema, dict) and err.schema.get("description"):
+            msg = f"{err.instance!r} is not {err.schema['description']}"   # not the regex itself
         if len(msg) > MAX_MESSAGE:  # keep the head (quoted value) and the tail (what is wrong)
             msg = msg[:MAX_MESSAGE // 2] + " … " + msg[-MAX_MESSAGE // 2:]
         who, node = _own_id(data, id), data
