@@ -44,7 +44,8 @@ class CanvasMenus:
         extras = view.extras.actions
         self.menus = {"file": [self.actions[k] for k in ("export_animation", "export_centrodes_csv",
                                                           "export_centrodes_dxf")],
-                      "view": [extras[k] for k in ("vectors", "centres", "transmission", "geneva", "centrodes")],
+                      "view": [extras[k] for k in ("vectors", "centres", "transmission", "geneva", "forces",
+                                                   "centrodes")],
                       "examples": [self.insert]}
 
     def _action(self, name: str, text: str, slot, tip: str) -> None:

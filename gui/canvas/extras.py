@@ -19,6 +19,7 @@ from PySide6.QtCore import QObject
 from PySide6.QtGui import QAction, QKeySequence
 
 from .handles import HandleLayer
+from .loads_layer import LoadLayer, LoadsItem
 from .overlays import HandlesItem, OverlaySet
 
 
@@ -32,6 +33,9 @@ class CanvasExtras(QObject):
         self.handles = HandleLayer(view.ctx)
         self.handles_item = HandlesItem()
         view.scene().addItem(self.handles_item)
+        self.loads = LoadLayer(view.ctx)       # loads drawn on their links, moved by their handles
+        self.loads_item = LoadsItem()
+        view.scene().addItem(self.loads_item)
         self.overlays = OverlaySet(view)
         self.actions: dict[str, QAction] = {}
         for name, text, key, tip in self.overlays.ACTIONS:
@@ -54,9 +58,12 @@ class CanvasExtras(QObject):
         """Redraw handles and overlays for the displayed frame and the current selection."""
         self.handles_item.set_handles(self.handles.handles())
         self.handles_item.set_px(self.view.px())
+        self.loads_item.set_records(*self.loads.records())
+        self.loads_item.set_px(self.view.px())
         self.overlays.refresh()
 
     def set_px(self, px: float) -> None:
         """The zoom changed (mm per pixel)."""
         self.handles_item.set_px(px)
+        self.loads_item.set_px(px)
         self.overlays.set_px(px)

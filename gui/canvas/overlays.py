@@ -28,6 +28,7 @@ from mechsketch.core.errors import MechsketchError
 from mechsketch.core.model.geneva import Geneva
 
 from .centrode_view import CentrodeView
+from .force_overlay import ForcesItem, force_records
 from .items import BAD, INK, MUTED, _Item, _pen, _px, _rect_of, _text
 from .pose import map_frame
 
@@ -214,6 +215,9 @@ class OverlaySet:
         ("transmission", "Transmission Angles", "", "the transmission angle μ of every RRR group"),
         ("geneva", "Geneva Phase && Contact Force", "",
          "Geneva drives: dwell or indexing, the contact force on the roller, the most loaded place"),
+        ("forces", "Joint Forces && Driving Torque", "",
+         "linkages with masses or loads: joint reactions as arrows and the driving torque; Geneva drives: "
+         "the crank torque from the contact model"),
         ("centrodes", "Centrodes of Selected Link", "",
          "fixed centrode on the frame (or on a second selected link), moving centrode on the link, rolling"),
     )
@@ -224,7 +228,7 @@ class OverlaySet:
         self.controller = view.controller
         self.shown: dict[str, bool] = {name: False for name, *_ in self.ACTIONS}
         self.items = {"vectors": VectorsItem(60), "centres": CentresItem(61), "transmission": TransmissionItem(59),
-                      "geneva": GenevaOverlayItem(62)}
+                      "geneva": GenevaOverlayItem(62), "forces": ForcesItem(63)}
         for it in self.items.values():
             view.scene().addItem(it)
         self.centrodes = CentrodeView(view)
@@ -368,6 +372,9 @@ class OverlaySet:
                 records.append({"at": (float(L[0]), float(L[1])), "a0": a0, "sweep": sweep, "mu": float(mu[k])})
                 points.append((float(L[0]), float(L[1])))
         return records, points
+
+    def _forces(self):
+        return force_records(self)
 
     def _geneva(self):
         records, points = [], []

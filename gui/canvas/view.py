@@ -443,6 +443,7 @@ class CanvasView(QGraphicsView):
     def dispatch(self, ev: CanvasEvent) -> None:
         """Hand ``ev`` to the active tool and show the result (public for tests and macros)."""
         tool = self.extras.handles.route(ev, self.toolbox.tool)   # a press on a handle drags it
+        tool = self.extras.loads.route(ev, tool)                  # ... and on a load's handle
         if tool is self.toolbox.tool and self._select_element(ev):
             return
         tool.handle(ev)
@@ -505,6 +506,7 @@ class CanvasView(QGraphicsView):
         tool = self.toolbox.tool
         tool.cancel()
         self.extras.handles.cancel()
+        self.extras.loads.cancel()
         self._overlay.set_overlay(tool.overlay())
         if self._busy:
             self._busy = False

@@ -20,6 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from mechsketch.core.analyses.geneva_report import analysis_table
+from mechsketch.core.analyses.geneva_torque import crank_torque
 from mechsketch.core.analyses.table import Table
 from mechsketch.core.workspace import GenevaResult, RollingResult
 
@@ -30,7 +31,7 @@ from .plots import PlotData, Series
 
 GENEVA_ROWS = (("angle", "wheel angle (°)"), ("omega", "ω (rad/s)"), ("alpha", "α (rad/s²)"),
                ("jerk", "jerk (rad/s³)"), ("force", "Rn (N)"), ("slip", "slip path (µm)"),
-               ("pressure", "p_max (MPa)"))
+               ("pressure", "p_max (MPa)"), ("torque", "crank torque (N·m)"))
 ROLLING_ROWS = (("alpha", "rocker α (°)"), ("k53", "k53 (mm/rad)"), ("S5", "S5 (mm)"),
                 ("slip", "slip (mm)"))
 
@@ -64,6 +65,7 @@ def geneva_plot_data(controller: SceneController, res: GenevaResult) -> PlotData
         Series("force", "Rn (paper eq. 3)", "N", con.Rn_paper),
         Series("slip", "slip path", "µm", con.slip_path * 1e3),
         Series("pressure", "p_max", "MPa", con.contact_pressure),
+        Series("torque", "driver.torque", "N·m", crank_torque(el, con).torque),   # from the contact model
     ]
     data.frame_x = _frame_x(controller, x)
 

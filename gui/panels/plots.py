@@ -135,6 +135,9 @@ def plot_data(controller: SceneController) -> PlotData:
         if g.kind == "RRR":
             S.append(Series("transmission", f"μ {g.name}", "°", np.degrees(sol.transmission_angle(g.name))))
     data.labels["transmission"] = "μ (°)"
+    from .force_plots import add_force_series   # it builds on PlotData and Series (defined here)
+
+    add_force_series(controller, data, lk, kind, ident)
     return data
 
 

@@ -25,6 +25,7 @@ from ..controller import SceneController
 from ..selection import ELEMENT, element_target
 from mechsketch.core.solver.flip import FLIPPABLE, flip_edit
 from .geneva_panel import geneva_boxes
+from .loads_panel import joint_friction_row, link_mass_rows, loads_box
 from .rolling_panel import rolling_boxes
 
 Selection = tuple[str, str, str]
@@ -77,6 +78,7 @@ class PropertiesPanel(QWidget):
         #: editable fields by name ("x", "y", "axis", "length:B-C", "speed"), for tests and refresh
         self.fields: dict[str, QLineEdit] = {}
         self.flip_buttons: dict[str, QToolButton] = {}
+        self.buttons: dict[str, QWidget] = {}    # add/remove buttons of the loads box, by name
         self.combos: dict[str, QComboBox] = {}   # choice boxes of a Geneva drive / rolling lever
         self.direction: QComboBox | None = None
         self._refreshers: list[Callable[[], None]] = []
@@ -120,7 +122,7 @@ class PropertiesPanel(QWidget):
         if res is not None and res.plan is not None:
             groups = tuple(s.group.name for s in res.plan.steps)
         return (lk.id, lk.joint_ids, tuple((k.id, k.joints) for k in lk.links), lk.ground,
-                lk.driver.link, self.selected(), groups, tuple(j.kind for j in lk.joints))
+                lk.driver.link, self.selected(), groups, tuple(j.kind for j in lk.joints), lk.load_ids)
 
     def refresh(self, *_args) -> None:
         """Rebuild the panel if what it shows changed shape; else update the values in place."""
@@ -161,6 +163,7 @@ class PropertiesPanel(QWidget):
     def _rebuild(self) -> None:
         self.fields.clear()
         self.flip_buttons.clear()
+        self.buttons.clear()
         self.combos.clear()
         self.direction = None
         self._refreshers.clear()
@@ -187,6 +190,7 @@ class PropertiesPanel(QWidget):
                 hint.setWordWrap(True)
                 self._content_layout.addWidget(hint)
             self._content_layout.addWidget(self._driver_box(lk.id))
+            self._content_layout.addWidget(loads_box(self, lk.id))
             self._content_layout.addWidget(self._modes_box(lk.id))
         self._content_layout.addStretch(1)
 
@@ -284,6 +288,7 @@ class PropertiesPanel(QWidget):
             edit = self._field("axis", lambda: self._lk(eid).joint(jid).axis_deg or 0.0, write_axis)
             form.addRow("slide axis", self._row(edit, "°"))
         form.addRow("links", QLabel(", ".join(self._lk(eid).links_of(jid)) or "none"))
+        joint_friction_row(self, form, eid, jid)
         return box
 
     def _link_box(self, eid: str, kid: str) -> QGroupBox:
@@ -312,6 +317,8 @@ class PropertiesPanel(QWidget):
                     label = QLabel()
                     self._refreshers.append(lambda label=label, read=read: label.setText(f"{read():.4f} mm"))
                     form.addRow(f"{a}–{b}", label)
+        if kid != lk.ground:
+            link_mass_rows(self, form, eid, kid)
         return box
 
     def _driver_box(self, eid: str) -> QGroupBox:
