@@ -240,6 +240,9 @@ class PropertiesPanel(QWidget):
             except MechsketchError as exc:
                 self.controller.message.emit(f"{name}: {exc}")
                 edit.setText(shown["text"])
+                return
+            edit.setModified(False)   # show what the model holds now: a refused push left it as it was
+            update()
 
         edit.editingFinished.connect(commit)
         self._refreshers.append(update)
