@@ -227,13 +227,32 @@ class Autosave(QObject):
                                 saved_at, lock_path if held is not None else None))
         return sorted(out, key=lambda r: r.saved_at, reverse=True)
 
+    def _set_aside(self, recovery: Recovery) -> Path | None:
+        """Rename a recovery file that cannot be restored to ``unrestorable-<time>-<name>`` (kept
+        for the user, no longer offered) and drop its meta and lock files; the new path or None."""
+        stamp = time.strftime("%Y%m%d-%H%M%S", time.localtime(recovery.saved_at))
+        target = recovery.scene_path.with_name(f"unrestorable-{stamp}-{recovery.scene_path.name}")
+        try:
+            os.replace(recovery.scene_path, target)
+        except OSError:
+            target = None
+        for p in (recovery.meta_path, recovery.lock_path):
+            if p is not None:
+                try:
+                    p.unlink()
+                except OSError:
+                    pass
+        return target
+
     def restore(self, recovery: Recovery) -> Scene | None:
         """Load a recovery file into the controller as an unsaved document; the file is then
         adopted (our own autosave takes over). Returns the scene, or None (with a message)."""
         try:
             scene = load_scene(recovery.scene_path)
         except (SceneFormatError, MechsketchError, OSError) as exc:
-            self.controller.message.emit(f"cannot restore {recovery.scene_path}: {exc}")
+            kept = self._set_aside(recovery)
+            where = f"; kept as {kept} (not offered again)" if kept else ""
+            self.controller.message.emit(f"cannot restore {recovery.scene_path}{where}: {exc}")
             return None
         original = Path(recovery.original) if recovery.original else None
         self.controller.reset(scene, original)

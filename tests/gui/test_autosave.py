@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import subprocess
 import sys
 import textwrap
@@ -192,3 +193,23 @@ def test_a_start_removes_temporaries_a_killed_autosave_left(shell, tmp_path):
     os.utime(orphan, (1e9, 1e9))
     shell(state_dir=folder, offer_recovery=True)
     assert not orphan.exists()
+
+
+def test_a_recovery_file_that_cannot_be_restored_is_kept_aside_and_not_offered_again(shell, tmp_path):
+    """Issue 13 item 2: an unreadable recovery file was offered at every start."""
+    folder = tmp_path / "state"
+    donor = shell(state_dir=tmp_path / "x")
+    _leave_recovery(folder, donor.controller.scene)
+    bad = folder / "recovery-999999999.json"
+    bad.write_text(re.sub(r"34\.64\d*", "1e10", bad.read_text(), count=1))   # beyond ±1e9 mm
+    dialogs = FakeDialogs()
+    dialogs.yes_no.append(True)
+    first = shell(state_dir=folder, dialogs=dialogs, offer_recovery=True)
+    assert len(dialogs.questions) == 1
+    msg = first.window.statusBar().currentMessage()
+    assert "cannot restore" in msg and "kept as" in msg and "beyond" in msg, msg
+    kept = list(folder.glob("unrestorable-*.json"))
+    assert len(kept) == 1 and "1e10" in kept[0].read_text()
+    again = FakeDialogs()
+    shell(state_dir=folder, dialogs=again, offer_recovery=True)
+    assert not again.questions
