@@ -53,3 +53,21 @@ def test_picking_never_overflows(qtbot):
     for pos in [(0.0, 0.0), (20.0, 1e300), (-huge, huge), (huge, -huge), (1e9, 1e9)]:
         hit = pick([pose], pos, 5.0)      # must not raise OverflowError
         assert hit is None or hit.element == "fourbar"
+
+
+def test_a_drag_beyond_the_range_is_refused_on_release(qtbot):
+    from canvas_user import example, make_view
+    from mechsketch.gui.canvas.events import CanvasEvent
+    from mechsketch.gui.canvas.pose import Hit
+
+    ctl, view, _ = make_view(qtbot, example("fourbar_crank_rocker"))
+    before = ctl.scene
+    hit = Hit("fourbar", "joint", "C")
+    c = before.element("fourbar").joint("C").at
+    view.dispatch(CanvasEvent("press", c, hit=hit, buttons=frozenset({"left"}), tolerance=2.0))
+    for y in (1e3, 1e8, 5e9):
+        view.dispatch(CanvasEvent("move", (c[0], y), button="none", buttons=frozenset({"left"}),
+                                  tolerance=2.0))
+    view.dispatch(CanvasEvent("release", (c[0], 5e9), tolerance=2.0))
+    assert ctl.undo_stack.count() == 0 and ctl.scene == before
+    assert any("beyond ±1e+09 mm" in m for m in view.messages), view.messages
