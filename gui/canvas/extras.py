@@ -33,7 +33,7 @@ class CanvasExtras(QObject):
         self.handles = HandleLayer(view.ctx)
         self.handles_item = HandlesItem()
         view.scene().addItem(self.handles_item)
-        self.loads = LoadLayer(view.ctx)       # loads drawn on their links, moved by their handles
+        self.loads = LoadLayer(view.ctx, view.px)   # loads drawn on their links, moved by their handles
         self.loads_item = LoadsItem()
         view.scene().addItem(self.loads_item)
         self.overlays = OverlaySet(view)
@@ -65,5 +65,6 @@ class CanvasExtras(QObject):
     def set_px(self, px: float) -> None:
         """The zoom changed (mm per pixel)."""
         self.handles_item.set_px(px)
+        self.loads_item.set_records(*self.loads.records())   # grips sit a screen distance from points
         self.loads_item.set_px(px)
         self.overlays.set_px(px)

@@ -7,11 +7,12 @@ are at the displayed frame, with handles that move them.
   and a damper as a dashpot between their two ends, and a diamond on every point that can be
   dragged.
 - :class:`LoadLayer` behaves like a tool (``handle(ev)``, ``overlay()``, ``busy``, ``cancel``):
-  the view routes a press on a load's handle to it under the select tool (a joint under the
-  cursor keeps priority, so a load drawn on a joint is moved by moving it elsewhere first). A
-  drag previews the load moved to the cursor (the point shown at the displayed frame is mapped
-  back to its link's drawn pose) and pushes one undo command on release. Moving a load never
-  changes the kinematics: the preview re-sweeps nothing.
+  the view routes a press on a load's handle to it under the select tool. A force's handle is
+  the tail of its arrow, a spring's or damper's a little inside each end (so that a load applied
+  at a joint does not hide the joint's own grip); dragging a handle moves the load's point by the
+  same displacement. A drag previews the moved load (the point shown at the displayed frame is
+  mapped back to its link's drawn pose) and pushes one undo command on release. Moving a load
+  never changes the kinematics: the preview re-sweeps nothing.
 
 Everything is read from the solution the canvas already holds; nothing here solves.
 """
@@ -39,18 +40,21 @@ SPRING = QColor("#2f9e44")
 DAMPER = QColor("#5f3dc4")
 ARROW_PX = 46.0     # a force arrow's length on screen
 TORQUE_PX = 20.0    # a torque arc's radius on screen
+END_PX = 14.0       # a spring's or damper's handles sit this far inside its ends
 
 
 @dataclass(frozen=True)
 class LoadHandle:
-    """A draggable point of a load: ``element``, ``load`` id, ``end`` (0 for a force; 0 or 1 for
-    a spring/damper), world position ``at`` (mm) at the displayed frame, its ``link``."""
+    """A draggable grip of a load: ``element``, ``load`` id, ``end`` (0 for a force; 0 or 1 for
+    a spring/damper), the grip's world position ``at`` (mm) at the displayed frame, the ``point``
+    of the load it moves (world, mm) and that point's ``link``."""
 
     element: str
     load: str
     end: int
     link: str
     at: XY
+    point: XY
 
 
 def _centre(linkage: Linkage, link: str) -> XY:
@@ -61,8 +65,9 @@ def _centre(linkage: Linkage, link: str) -> XY:
 class LoadLayer:
     """Records to draw and handle dragging for the loads of every linkage (module docstring)."""
 
-    def __init__(self, ctx) -> None:
+    def __init__(self, ctx, px=lambda: 0.5) -> None:
         self.ctx = ctx
+        self.px = px   # mm per screen pixel now (handles sit a fixed screen distance from points)
         self._cache: dict[tuple, tuple] = {}
         self._overlay = Overlay()
         self._grab: LoadHandle | None = None
@@ -92,15 +97,17 @@ class LoadLayer:
         records: list[dict] = []
         points: list[XY] = []
         handles: list[LoadHandle] = []
+        px = self.px()
         for pose in self.ctx.poses():
             lk = pose.linkage
             for ld in lk.loads:
                 if ld.kind == "force":
                     at = self._world(pose, ld.link, ld.at)
                     mag = math.hypot(*ld.force)
-                    records.append({"kind": "force", "at": at, "dir": (ld.force[0] / mag, ld.force[1] / mag) if mag
-                                    else (0.0, -1.0), "label": f"{ld.id} {mag:.4g} N"})
-                    handles.append(LoadHandle(lk.id, ld.id, 0, ld.link, at))
+                    u = (ld.force[0] / mag, ld.force[1] / mag) if mag else (0.0, -1.0)
+                    records.append({"kind": "force", "at": at, "dir": u, "label": f"{ld.id} {mag:.4g} N"})
+                    tail = (at[0] - u[0] * ARROW_PX * px, at[1] - u[1] * ARROW_PX * px)
+                    handles.append(LoadHandle(lk.id, ld.id, 0, ld.link, tail, at))
                     points.append(at)
                 elif ld.kind == "torque":
                     at = self._world(pose, ld.link, _centre(lk, ld.link))
@@ -111,7 +118,11 @@ class LoadLayer:
                     ends = [self._world(pose, e.link, e.at) for e in ld.ends]
                     text = f"{ld.id} {ld.stiffness:.4g} N/mm" if ld.kind == "spring" else f"{ld.id} {ld.damping:.4g} N·s/mm"
                     records.append({"kind": ld.kind, "ends": ends, "label": text})
-                    handles += [LoadHandle(lk.id, ld.id, m, e.link, ends[m]) for m, e in enumerate(ld.ends)]
+                    d = complex(ends[1][0] - ends[0][0], ends[1][1] - ends[0][1])
+                    inward = min(END_PX * px, 0.3 * abs(d)) * (d / abs(d) if abs(d) > 0 else 1.0)
+                    for m, e in enumerate(ld.ends):
+                        g = complex(*ends[m]) + (inward if m == 0 else -inward)
+                        handles.append(LoadHandle(lk.id, ld.id, m, e.link, (g.real, g.imag), ends[m]))
                     points += ends
         return records, points, handles
 
@@ -137,7 +148,7 @@ class LoadLayer:
         if self._grab is not None:
             return self
         if (ev.kind == "press" and ev.button == "left" and getattr(tool, "name", "") == "select"
-                and (ev.hit is None or ev.hit.kind != "joint") and self.at(ev.raw, ev.tolerance) is not None):
+                and self.at(ev.raw, ev.tolerance) is not None):
             return self
         return tool
 
@@ -145,10 +156,12 @@ class LoadLayer:
         getattr(self, f"_on_{ev.kind}", lambda _ev: None)(ev)
 
     def moved(self, linkage: Linkage, h: LoadHandle, pos: XY) -> Linkage:
-        """``linkage`` with the point of handle ``h`` dragged to world ``pos`` at the displayed frame."""
+        """``linkage`` with handle ``h`` dragged to world ``pos`` at the displayed frame (its load's
+        point moves by the same displacement)."""
         pose = self.ctx.pose(h.element)
         arrays, k = (pose.arrays, pose.index) if pose is not None else (None, None)
-        p0 = to_drawn(arrays, linkage, h.link, k, pos)
+        world = (h.point[0] + pos[0] - h.at[0], h.point[1] + pos[1] - h.at[1])
+        p0 = to_drawn(arrays, linkage, h.link, k, world)
         p0 = (float(p0[0]), float(p0[1]))
         ld = linkage.load(h.load)
         if isinstance(ld, PointForce):
@@ -289,6 +302,9 @@ class LoadsItem(_Item):
         for h in self.handles:
             x, y = h.at
             s = 4.5 * px
+            if h.at != h.point:   # a thin line from the grip to the point it moves
+                painter.setPen(_pen(LOAD, 1.0, Qt.PenStyle.DotLine))
+                painter.drawLine(QPointF(*h.at), QPointF(*h.point))
             diamond = QPainterPath(QPointF(x, y - s))
             for q in ((x + s, y), (x, y + s), (x - s, y), (x, y - s)):
                 diamond.lineTo(*q)
