@@ -24,6 +24,7 @@ never with a range contradicting it.
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass
 
 import numpy as np
@@ -41,6 +42,19 @@ _LIMIT_PATIENCE = 8
 #: a pair-D end is placed from the state this many steps before the first failed one
 _LIMIT_BACK = 16
 _END_X, _END_W = np.polynomial.legendre.leggauss(40)
+#: budget of one adaptive integration (:func:`_march`): attempted steps (a stroke takes ~100 at
+#: 1e-10 mm; each attempt costs 14 evaluations, ~40 µs) and wall-clock seconds
+MAX_STEPS = 50_000
+MAX_SECONDS = 20.0
+
+
+class _Budget(Exception):
+    """Internal: :func:`_march` used up its step or time budget at θ = ``theta`` with steps of
+    ``step`` rad (``what``: "steps" or "time")."""
+
+    def __init__(self, theta: float, step: float, steps: int, seconds: float, what: str) -> None:
+        super().__init__(theta)
+        self.theta, self.step, self.steps, self.seconds, self.what = theta, step, steps, seconds, what
 
 
 class _OutOfRange(Exception):
@@ -87,14 +101,32 @@ def _march(k: ScalarKernel, m: _March, target: float, rate: float, h: float, hmi
     """Advance the mesh ``m`` from its last state to θ = ``target`` with step doubling.
 
     ``rate``: allowed local error per radian (mm/rad); steps shorter than ``accept_below`` are
-    accepted whatever their error; no step is longer than ``hmax`` (rad). Returns the last step size. Raises :class:`_OutOfRange` when a
-    step no longer than ``hmin`` still leaves the working range.
+    accepted whatever their error; no step is longer than ``hmax`` (rad). Returns the last step
+    size. Raises :class:`_OutOfRange` when a step no longer than ``hmin`` still leaves the working
+    range, :class:`_Budget` after :data:`MAX_STEPS` attempted steps or :data:`MAX_SECONDS`. A
+    rest of the span that θ cannot resolve (below one ulp of θ, or than ``hmin``, where no step
+    can be taken) is covered by taking the state as it is (it changes by less than rounding).
     """
     th, a, s = m.theta[-1], m.alpha[-1], m.s5[-1]
     floor = 4.0 * np.finfo(float).eps * max(k.ell, 1.0)  # round-off level of one step (mm)
     direction = 1.0 if target > th else -1.0
+    t0 = time.perf_counter()
+    tries = 0
     while (target - th) * direction > 0.0:
-        step = min(abs(h), hmax, abs(target - th))
+        rest = abs(target - th)
+        step = min(abs(h), hmax, rest)
+        if th + direction * step == th:   # no step θ can resolve: a zero step, or one below its ulp
+            if rest <= max(hmin, 4.0 * math.ulp(th)):
+                m.theta.append(float(target))
+                m.alpha.append(a)
+                m.s5.append(s)
+                break
+            step = max(step, 4.0 * math.ulp(th), hmin)
+        tries += 1
+        if tries > MAX_STEPS:
+            raise _Budget(th, step, tries - 1, time.perf_counter() - t0, "steps")
+        if tries % 64 == 0 and time.perf_counter() - t0 > MAX_SECONDS:
+            raise _Budget(th, step, tries, time.perf_counter() - t0, "time")
         last = step == abs(target - th)
         hs = direction * step
         m.evaluations += 14
@@ -292,7 +324,8 @@ def integrate(geom: LeverGeometry, end: float, tol: float, start: tuple[float, f
     """Integrate the exact ODE from ``start`` = (θ, α, S5) (default the drawn pose (0, α0, 0)) to θ = ``end``.
 
     ``tol``: bound on the summed local error of P and Q over the span (mm); ``max_step`` (rad).
-    Raises :class:`_OutOfRange` (internal) when the span leaves the working range.
+    Raises :class:`_OutOfRange` (internal) when the span leaves the working range, and
+    :class:`GeometryError` naming the inputs to change when the step or time budget runs out.
     """
     k = ScalarKernel(geom)
     th, a, s = start if start is not None else (0.0, geom.alpha0, 0.0)
@@ -302,9 +335,36 @@ def integrate(geom: LeverGeometry, end: float, tol: float, start: tuple[float, f
     if k.rhs(a, th) is None:
         raise _OutOfRange(th, a, s, k.reason)
     m = _March([th], [a], [s])
-    h0 = min(max_step, 0.01 * span)
-    _march(k, m, end, tol / span, h0, 1e-13 * max(1.0, span), hmax=max_step)
+    h0 = min(max_step, 0.01 * span) or span   # (0.01·span underflows for a subnormal span)
+    try:
+        _march(k, m, end, tol / span, h0, 1e-13 * max(1.0, span), hmax=max_step)
+    except _Budget as b:
+        rng = working_range(geom)   # steps that collapse near a range end the stroke passes
+        if not rng.contains(end):
+            limit, why = (rng.lower, rng.lower_reason) if end < rng.lower else (rng.upper, rng.upper_reason)
+            raise GeometryError(f"θ = {end:g} rad is beyond the working range: after θ ≈ {limit:.6f} rad {why}. "
+                                f"Reachable range from the drawn pose: {rng.describe()}; change the "
+                                f"stroke (`stroke.from`, `stroke.to`)") from None
+        raise GeometryError(_budget_message(geom, th, end, tol, b)) from None
     return ExactPath(geom, np.array(m.theta), np.array(m.alpha), np.array(m.s5), m.error, m.evaluations)
+
+
+def _budget_message(geom: LeverGeometry, start: float, end: float, tol: float, b: _Budget) -> str:
+    """Why an integration ran out of budget, and which input to change."""
+    size = max(geom.scale, *(math.hypot(*p) for p in (geom.G, geom.f, geom.c1, geom.c2)))
+    noise = np.finfo(float).eps * size
+    spent = (f"{b.steps:,} steps" if b.what == "steps" else f"{b.seconds:.1f} s of computing") + \
+        f" (limit {MAX_STEPS:,} steps, {MAX_SECONDS:g} s)"
+    head = (f"the exact integration of θ from {start:g} to {end:g} rad did not finish: after {spent} "
+            f"it had reached θ = {b.theta:.6g} rad with steps of {b.step:.1e} rad. ")
+    if tol < noise:
+        return head + (f"The tolerance {tol:g} mm is below what the arithmetic resolves at this lever's "
+                       f"size ({size:.3g} mm, where one rounding is {noise:.1e} mm): raise `tolerance` to "
+                       f"at least {100 * noise:.1g} mm, or draw the lever smaller and nearer the origin "
+                       f"(`pin`, `rocker_pivot`, `lever_circle`, `slider_circle`)")
+    return head + (f"The motion is nearly singular there (an end of the working range, or a contact "
+                   f"that all but stops): end the stroke (`stroke.from`, `stroke.to`) before θ = "
+                   f"{b.theta:.6g} rad, or raise `tolerance` (now {tol:g} mm)")
 
 
 def _beyond_message(geom: LeverGeometry, start: float, end: float, stop: _OutOfRange, direction: float) -> str:
