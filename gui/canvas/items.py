@@ -128,6 +128,12 @@ class _Item(QGraphicsItem):
             self.prepareGeometryChange()
             self._rect = rect
         self._core = core
+        mode = self.cacheMode()
+        if mode != QGraphicsItem.CacheMode.NoCache:
+            # drop the cached pixmap: under X11 an update() alone could leave the old drawing on
+            # screen (a linkage shown at an earlier frame and place; offscreen never showed it)
+            self.setCacheMode(QGraphicsItem.CacheMode.NoCache)
+            self.setCacheMode(mode)
         self.update()
 
     def boundingRect(self) -> QRectF:
