@@ -341,6 +341,8 @@ def linkage_forces(plan: Plan, sol: Solution) -> ForceResult:
         check = effort
         for _j, _on, _by, f in p.pairs:   # a NaN or inf anywhere spoils the sum
             check = check + f
+        for _on, f, _q, c in p.slides.values():
+            check = check + f + c
         valid = sol.valid & np.isfinite(check)
         all_valid = bool(valid.all())
         if not all_valid:
