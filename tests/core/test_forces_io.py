@@ -236,3 +236,25 @@ def test_geneva_crank_torque_is_the_power_balance_without_journal_friction(capsy
     code, out, _ = run(["analyze", example_path("geneva_z6"), "--forces", "--csv", "-"], capsys)
     head = out.splitlines()[0].split(",")
     assert code == 0 and head[-1] == "driver.torque"
+
+
+def test_samples_that_cannot_be_assembled_have_no_forces(capsys, tmp_path):
+    """The double rocker reaches only part of a turn: there the forces are NaN (empty CSV fields),
+    the summary counts those samples, and the rest still balance power."""
+    from dataclasses import replace as dc_replace
+
+    lk = load_scene(example_path("double_rocker")).elements[0]
+    lk = dc_replace(lk, masses=tuple(LinkMass(k, 0.5) for k in lk.moving_links), gravity=(0.0, -9.81))
+    ws = Workspace(load_scene(example_path("double_rocker")))
+    ws.apply(ReplaceElement(lk, "masses"))
+    res = ws.forces(lk.id)
+    sol = ws.solve(lk.id)
+    assert not sol.valid.all() and np.array_equal(res.valid, sol.valid)
+    assert np.isnan(res.driver.values[~res.valid]).all() and np.isfinite(res.driver.values[res.valid]).all()
+    assert res.power.worst < 1e-12
+    from mechsketch.core.analyses.forces_report import force_summary, force_table
+
+    assert f"{int((~res.valid).sum())} samples not assembled" in force_summary(res)
+    text = force_table(res).to_csv().splitlines()
+    bad = int(np.flatnonzero(~res.valid)[0])
+    assert set(text[bad + 1].split(",")) == {""}
