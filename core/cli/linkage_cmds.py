@@ -19,6 +19,10 @@ def analysis_table(linkage: Linkage, sol) -> Table:
     """Columns: t, input, per joint J.x J.y J.vx J.vy J.ax J.ay, per moving link K.angle K.omega
     K.alpha, valid, rates_valid (mm, mm/s, mm/s², rad, rad/s, rad/s²; 1/0).
 
+    ``input`` is the driver's input (``Solution.input``): a crank's angle (rad, unwrapped), a
+    cylinder's length between its pivots or a slider's displacement along its guide from the
+    drawn position (mm); ``t`` the time (s) in the cycle of the driver's motion law.
+
     ``valid``: the pose is known (every position and angle of the row is a finite number);
     ``rates_valid``: so are its velocities and accelerations (0 at an exact toggle or change point,
     where they are singular, or where they overflow). Fields not covered by the flags are empty."""

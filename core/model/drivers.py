@@ -30,6 +30,7 @@ Velocities and accelerations of every law come from its closed form (see
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from enum import StrEnum
 
@@ -91,4 +92,12 @@ def input_unit(kind: DriverKind) -> str:
     return "mm" if kind in LINEAR_KINDS else "rad"
 
 
-__all__ = ["DriverKind", "LINEAR_KINDS", "LawKind", "MIN_TABLE_POINTS", "MotionLaw", "input_unit"]
+def input_text(value: float, unit: str, digits: int = 1) -> str:
+    """An input as read by a person: a crank angle (``unit`` "rad") in degrees, ``"123.4°"``; an
+    actuator's length or displacement (``unit`` "mm") in millimetres, ``"56.7 mm"``."""
+    if unit == "mm":
+        return f"{value:.{digits}f} mm"
+    return f"{math.degrees(value):.{digits}f}°"
+
+
+__all__ = ["DriverKind", "LINEAR_KINDS", "LawKind", "MIN_TABLE_POINTS", "MotionLaw", "input_text", "input_unit"]

@@ -1,8 +1,12 @@
 """Diagnostics of a swept linkage: reachable input ranges, dead points, transmission angles.
 
 Boundaries between assemblable and non-assemblable samples are refined by bisection on the
-driver angle (to ~1e-12 rad); near-toggle minima of a group's conditioning inside the reachable
+driver input (to ~1e-12 rad); near-toggle minima of a group's conditioning inside the reachable
 range are refined by golden-section search. Angles are radians unless a name says ``_deg``.
+
+They describe the geometry against the input, whatever the motion law: a crank over one full
+turn (a crank driven by another law is diagnosed on a constant-speed turn), an actuator over its
+stroke (inputs in mm; ``unit`` says which).
 """
 from __future__ import annotations
 
@@ -12,6 +16,7 @@ from enum import StrEnum
 
 import numpy as np
 
+from ..model.drivers import input_text
 from .branches import golden_min
 from .plan import Plan, Solution
 from .structure import GroupKind
@@ -43,6 +48,7 @@ class DeadPoint:
     group: str
     kind: DeadPointKind
     conditioning: float
+    unit: str = "rad"    # of ``input``: "rad" (crank angle) or "mm" (actuator)
 
     def __post_init__(self) -> None:
         if not isinstance(self.kind, DeadPointKind):
@@ -55,7 +61,7 @@ class DeadPoint:
                 DeadPointKind.SINGULAR: "singular sample (the outer joints coincide: the pose is undetermined "
                                         "there and not given; the motion keeps to the smooth branch)",
                 }.get(self.kind, f"near toggle (conditioning {self.conditioning:.1e})")
-        return f"{math.degrees(self.input):.6f}° {self.group}: {what}"
+        return f"{input_text(self.input, self.unit, 6)} {self.group}: {what}"
 
 
 @dataclass
@@ -73,6 +79,8 @@ class Diagnostics:
     residual: float                                   # mm
     full_turn: bool = field(default=False)
     fixed: tuple[str, ...] = ()                       # groups hung on the frame only (do not move)
+    unit: str = "rad"                                 # of the inputs: "rad" (crank) or "mm" (actuator)
+    stroke: tuple[float, float] | None = None         # an actuator's stroke, mm
 
     def lines(self) -> list[str]:
         out = [f"mobility: {self.mobility}"]
@@ -82,11 +90,12 @@ class Diagnostics:
             out.append(f"group {name} is fixed to the frame: it hangs on frame joints only, so it has "
                        f"zero mobility and its links do not move (solved once, in the drawn pose)")
         if self.full_turn:
-            out.append("reachable: full revolution of the driver")
+            out.append("reachable: full revolution of the driver" if self.stroke is None else
+                       f"reachable: the whole stroke, {self.stroke[0]:g} to {self.stroke[1]:g} mm")
         elif not self.reachable:
             out.append("reachable: none (the linkage cannot be assembled at any sampled input)")
         for a, b in self.reachable if not self.full_turn else []:
-            out.append(f"reachable: input {math.degrees(a):.6f}° to {math.degrees(b):.6f}°")
+            out.append(f"reachable: input {input_text(a, self.unit, 6)} to {input_text(b, self.unit, 6)}")
         for d in self.dead_points:
             out.append(f"dead point: {d}")
         if not self.dead_points:
@@ -128,7 +137,15 @@ def _golden_min(plan: Plan, group: str, a: float, b: float) -> tuple[float, floa
 
 
 def diagnose(sol: Solution) -> Diagnostics:
-    """Diagnostics of a full-revolution sweep (``plan.sweep``)."""
+    """Diagnostics of a full-cycle sweep (``plan.sweep``): a crank over one turn, an actuator
+    over its stroke (see the module docstring)."""
+    drv = sol.plan.linkage.driver
+    if drv.linear:
+        return _diagnose_stroke(sol)
+    if not drv.law.is_constant:   # the geometry over one turn at constant speed
+        n = len(sol)
+        sg = 1.0 if drv.omega >= 0 else -1.0
+        sol = sol.plan.evaluate(sol.plan.theta0 + sg * (2.0 * math.pi / n) * np.arange(n), order=min(sol.order, 2))
     plan = sol.plan
     n = len(sol)
     valid = _assembled(sol)
@@ -200,3 +217,60 @@ def diagnose(sol: Solution) -> Diagnostics:
                 trans[g.name] = (float(mu.min()), float(mu.max()))
     return Diagnostics(plan.mobility, groups, n, float(valid.mean()), reachable, dead, trans,
                        sol.elapsed, sol.residual(), full, tuple(g.name for g in sol.groups if g.fixed))
+
+
+def _diagnose_stroke(sol: Solution) -> Diagnostics:
+    """Diagnostics of an actuator-driven linkage over its stroke (inputs in mm): the geometry is
+    sampled uniformly over the stroke with the sweep's sample count; the solve time, residual and
+    assemblable fraction are those of the sweep over the cycle."""
+    plan = sol.plan
+    lo, hi = plan.linkage.driver.stroke
+    n = max(len(sol), 3)
+    x = np.linspace(lo, hi, n)
+    h = (hi - lo) / (n - 1)
+    geo = plan.evaluate(x, order=0)
+    valid = _assembled(geo)
+    unit = "mm"
+    groups = [(g.name, g.kind, geo.group_output(g.name).mode) for g in geo.groups]
+    dead: list[DeadPoint] = []
+    reachable: list[tuple[float, float]] = []
+    full = bool(valid.all())
+    if not full and valid.any():
+        edges = np.flatnonzero(np.diff(np.concatenate(([0], valid.view(np.int8), [0]))))
+        for s, e in zip(edges[::2], edges[1::2]):   # runs of valid samples [s, e)
+            a = float(x[s]) if s == 0 else float(_bisect_valid(plan, x[s:s + 1], x[s - 1:s])[0])
+            b = float(x[e - 1]) if e == n else float(_bisect_valid(plan, x[e - 1:e], x[e:e + 1])[0])
+            reachable.append((a, b))
+            for at, probe in ((a, a - 1e-9 * h), (b, b + 1e-9 * h)):
+                if lo < at < hi:
+                    p = plan.evaluate(np.array([probe]), order=0)
+                    g = next((g for g in p.groups if not p.group_output(g.name).ok[0]), None)
+                    if g is not None:
+                        dead.append(DeadPoint(at, g.name, DeadPointKind.LIMIT, 0.0, unit))
+    for g in geo.groups:
+        o = geo.group_output(g.name)
+        if o.singular is not None:
+            dead += [DeadPoint(float(x[k]), g.name, DeadPointKind.SINGULAR, 0.0, unit) for k in np.flatnonzero(o.singular)]
+    branches = plan.branch_points()
+    for g in geo.groups:
+        if g.fixed:
+            continue
+        c = np.where(geo.valid, geo.conditioning(g.name), np.inf)
+        inner = np.zeros(n, dtype=bool)
+        inner[1:-1] = (c[1:-1] < TOGGLE_COND) & (c[1:-1] <= c[:-2]) & (c[1:-1] <= c[2:]) & np.isfinite(c[:-2]) \
+            & np.isfinite(c[2:])
+        bp = branches.get(g.name, np.empty(0))
+        for k in np.flatnonzero(inner):
+            at, cmin = _golden_min(plan, g.name, float(x[k] - h), float(x[k] + h))
+            near = bp.size and float(np.min(np.abs(bp - at))) < 1e-6 * max(hi - lo, 1.0)
+            dead.append(DeadPoint(at, g.name, DeadPointKind.CHANGE_POINT if near else DeadPointKind.TOGGLE, cmin, unit))
+    dead.sort(key=lambda d: d.input)
+    trans = {}
+    for g in geo.groups:
+        if g.kind is GroupKind.RRR and valid.any():
+            mu = np.degrees(geo.transmission_angle(g.name))
+            mu = mu[np.isfinite(mu)]
+            if mu.size:
+                trans[g.name] = (float(mu.min()), float(mu.max()))
+    return Diagnostics(plan.mobility, groups, len(sol), float(sol.valid.mean()), reachable, dead, trans,
+                       sol.elapsed, sol.residual(), full, tuple(g.name for g in geo.groups if g.fixed), unit, (lo, hi))

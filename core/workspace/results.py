@@ -37,6 +37,7 @@ from ..analyses.rolling_geometry import pose_state
 from ..analyses.rolling_slip import SlipSamples
 from ..analyses.rolling_synthesis import RollingSynthesis, synthesize
 from ..errors import MechsketchError
+from ..model.drivers import input_text
 from ..model.geneva import Geneva
 from ..model.linkage import Linkage
 from ..model.rolling_lever import RollingLever
@@ -110,16 +111,17 @@ class LinkageResult(_Result):
         return self._diagnostics
 
     def frame_text(self, k: int) -> str:
-        """Read-out of frame ``k``: input angle and time."""
+        """Read-out of frame ``k``: the input (crank angle in degrees, or actuator length in mm) and time."""
         sol = self.solution
-        deg = math.degrees(math.remainder(float(sol.input[k]), 2 * math.pi))
-        return f"input {deg:.2f}°  t {float(sol.t[k]):.3f} s"
+        unit = self.plan.input_unit
+        value = float(sol.input[k]) if unit == "mm" else math.remainder(float(sol.input[k]), 2 * math.pi)
+        return f"input {input_text(value, unit, 2)}  t {float(sol.t[k]):.3f} s"
 
     def summary(self) -> str:
         """What ``mechsketch analyze SCENE --element ID --summary`` prints."""
         if self.solution is None:
             return f"linkage {self.element.id!r}: {self.error}"
-        return linkage_summary(self.element, self.plan, self.diagnostics)
+        return linkage_summary(self.element, self.plan, self.diagnostics, self.solution)
 
 
 def solve_linkage(element: Linkage, samples: int | None = None, plan: Plan | None = None) -> LinkageResult:

@@ -74,11 +74,25 @@ def closure_error(linkage: Linkage, sol, mask=None) -> float:
             upd(scale * (rot[a] - rot[b]))
             u = rot[a] * e(j.axis_deg)
             upd(cross2_arr(u, pts[1] - pts[0]))
-    # the ground does not move; the driver turns about its pivot by the input
+    # the ground does not move; the driver turns about its pivot by the input (a crank), its end
+    # pivots are the input apart (a cylinder), or it slides along its guide by the input (a slider)
     g = fr[linkage.ground]
     upd(g[0] - complex(*g[3]))
     upd(rot[linkage.ground] - 1)
     drv = linkage.driver
+    if drv.kind == "cylinder":
+        rod = next(k for k in linkage.links_of(drv.pivot) if k != drv.link)
+        m = next(x for x in linkage.link(drv.link).joints if x != drv.pivot)
+        h = next(x for x in linkage.link(rod).joints if x != drv.pivot)
+        pm, ph = sol.point(drv.link, linkage.joint(m).at), sol.point(rod, linkage.joint(h).at)
+        upd(np.hypot(*(ph - pm).T) - sol.input)
+        return worst
+    if drv.kind == "slider":
+        s0 = complex(*linkage.joint(drv.pivot).at)
+        ps = sol.point(drv.link, linkage.joint(drv.pivot).at)
+        upd((ps[:, 0] + 1j * ps[:, 1] - s0) - sol.input * e(linkage.joint(drv.pivot).axis_deg))
+        upd(scale * (rot[drv.link] - 1))
+        return worst
     pv = complex(*linkage.joint(drv.pivot).at)
     tip = next(x for x in linkage.link(drv.link).joints if x != drv.pivot)
     t0 = complex(*linkage.joint(tip).at) - pv

@@ -10,6 +10,7 @@ import pytest
 
 import linkage_builders as LB
 import reference as R
+import reference_drive as RD
 import solution_checks as CK
 from mechsketch.core import load_scene, validate_file
 from mechsketch.core.cli import main
@@ -46,9 +47,13 @@ def test_example_linkage_solves_accurately(path, eid, capsys):
     assert CK.closure_error(lk, sol) <= 1e-12 * size
     assert sol.residual() <= 1e-12 * size
     ok = np.flatnonzero(sol.valid)
-    err = R.relative(R.compare(lk, sol, ok[:: max(1, len(ok) // 8)]))
-    assert err["pos"] <= 1e-13 and err["ang"] <= 1e-13, err
-    assert max(err[q] for q in ("vel", "acc", "omega", "alpha")) <= 1e-11, err
+    if lk.driver.kind == "crank" and lk.driver.law.is_constant:
+        err = R.relative(R.compare(lk, sol, ok[:: max(1, len(ok) // 8)]))
+        assert err["pos"] <= 1e-13 and err["ang"] <= 1e-13, err
+        assert max(err[q] for q in ("vel", "acc", "omega", "alpha")) <= 1e-11, err
+    else:   # any driver and law: the generic 50-digit reference (fewer samples: it is slower)
+        err = RD.relative(RD.compare(lk, sol, ok[:: max(1, len(ok) // 3)]), size)
+        assert err["pos"] <= 1e-13 and max(err["vel"], err["acc"]) <= 1e-11, err
     for g in sol.groups:
         s = CK.mode_signs(lk, sol, g)
         assert np.all(s[sol.valid] == s[0])

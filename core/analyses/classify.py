@@ -1,0 +1,196 @@
+"""What kind of linkage it is, in the designer's words: Grashof and the four-bar's type, the
+slider-crank's kind, an actuator's stroke, and the stroke and time ratio of each output.
+
+- **Four-bar** (the crank's first group is an RRR hung on the crank and the frame): shortest s,
+  longest l and the other two p, q of ground, crank, coupler and rocker. Grashof when
+  s + l < p + q; its type follows the shortest link: the crank (crank-rocker), the ground (double
+  crank), the coupler (double rocker), the rocker (rocker-crank: the input cannot turn fully).
+  s + l = p + q is a change-point linkage; s + l > p + q a non-Grashof triple rocker.
+- **Slider-crank** (an RRP on the crank with its guide on the frame): centric or offset by e
+  (the crank pivot's distance from the pin's line); the crank turns fully when r + |e| ≤ l.
+  **Inverted slider-crank** (an RPR on the crank and the frame): the guide rocks when the crank
+  is shorter than the pivots' distance, else it turns (a Whitworth drive).
+- **Outputs**: every link pivoted on the frame (a rocker) or sliding on a frame guide (a slider)
+  that the driver moves: its travel over the cycle (angle, °, or stroke, mm) and, when it swings
+  back and forth over a cycle that assembles everywhere, the time ratio: the time from its
+  least to its greatest value over the time back (> 1: a quick return). Extremes are refined by
+  golden-section search in time on the cycle's own law, so the ratio is exact for any law.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..model.drivers import DriverKind
+from ..model.linkage import JointKind, Linkage
+from ..solver.branches import golden_min
+from ..solver.motion_law import at_times
+from ..solver.plan import Plan, Solution
+from ..solver.structure import Group, GroupKind
+
+#: two lengths that differ by less than this relative amount are equal (Grashof equality)
+EQUAL_REL = 1e-9
+GOLDEN = 60
+
+
+def _c(xy) -> complex:
+    return complex(float(xy[0]), float(xy[1]))
+
+
+def _d(lk: Linkage, a: str, b: str) -> float:
+    return abs(_c(lk.joint(a).at) - _c(lk.joint(b).at))
+
+
+def fourbar_type(ground: float, crank: float, coupler: float, rocker: float) -> tuple[str, str]:
+    """(Grashof class, type) of a four-bar driven by its crank, from its four lengths (mm)."""
+    named = {"ground": ground, "crank": crank, "coupler": coupler, "rocker": rocker}
+    vals = sorted(named.values())
+    s, p, q, l = vals
+    lhs, rhs = s + l, p + q
+    shortest = min(named, key=named.get)
+    tol = EQUAL_REL * rhs
+    if abs(lhs - rhs) <= tol:
+        cls = f"change point (s + l = p + q = {rhs:.6g} mm)"
+        kind = {"crank": "crank-rocker", "ground": "double crank", "coupler": "double rocker",
+                "rocker": "rocker-crank"}[shortest] + " with change points (the links fold into one line)"
+    elif lhs < rhs:
+        cls = f"Grashof (s + l = {lhs:.6g} < p + q = {rhs:.6g} mm)"
+        kind = {"crank": "crank-rocker (the crank turns fully, the rocker swings)",
+                "ground": "double crank (drag link: both side links turn fully)",
+                "coupler": "double rocker (Grashof: the coupler turns fully, crank and rocker swing)",
+                "rocker": "rocker-crank (the rocker could turn fully; the crank only swings)"}[shortest]
+    else:
+        cls = f"non-Grashof (s + l = {lhs:.6g} > p + q = {rhs:.6g} mm)"
+        kind = "triple rocker (double rocker: no link turns fully)"
+    return cls, kind
+
+
+def _first_group(plan: Plan) -> Group | None:
+    drv = plan.linkage.driver
+    for step in plan.steps:
+        g = step.group
+        if {g.known_i, g.known_j} == {drv.link, plan.linkage.ground} and not g.fixed:
+            return g
+    return None
+
+
+def _structure_lines(lk: Linkage, plan: Plan) -> list[str]:
+    drv = lk.driver
+    if drv.kind is not DriverKind.CRANK:
+        kind = "cylinder between two pivots" if drv.kind is DriverKind.CYLINDER else "slider on a fixed guide"
+        lo, hi = drv.stroke
+        return [f"input: {kind} ({drv.link!r} on {drv.pivot!r}), stroke {lo:g} to {hi:g} mm "
+                f"({hi - lo:g} mm), law {drv.law.kind.value}"]
+    out = [f"input: crank {drv.link!r} about {drv.pivot!r}, law {drv.law.kind.value}"]
+    g = _first_group(plan)
+    if g is None:
+        return out
+    on_crank_i = g.known_i == drv.link
+    oc, og = (g.outer_i, g.outer_j) if on_crank_i else (g.outer_j, g.outer_i)
+    if g.kind is GroupKind.RRR:
+        link_c, link_g = (g.link_i, g.link_j) if on_crank_i else (g.link_j, g.link_i)
+        a, b = _d(lk, drv.pivot, oc), _d(lk, oc, g.inner)
+        c, d = _d(lk, og, g.inner), _d(lk, drv.pivot, og)
+        cls, kind = fourbar_type(d, a, b, c)
+        out.append(f"four-bar {drv.pivot}–{oc}–{g.inner}–{og}: ground {d:.6g}, crank {a:.6g}, coupler "
+                   f"{link_c!r} {b:.6g}, rocker {link_g!r} {c:.6g} mm; {cls}; {kind}")
+    elif g.kind is GroupKind.RRP and g.known_j == lk.ground:
+        r, rod = _d(lk, drv.pivot, g.outer_i), _d(lk, g.outer_i, g.inner)
+        guide = lk.joint(g.outer_j)
+        u = complex(math.cos(math.radians(guide.axis_deg or 0.0)), math.sin(math.radians(guide.axis_deg or 0.0)))
+        v = _c(lk.joint(drv.pivot).at) - _c(lk.joint(g.inner).at)
+        e = (u.conjugate() * v).imag
+        size = max(r, rod, 1.0)
+        kind = "centric" if abs(e) <= EQUAL_REL * size else f"offset (e = {abs(e):.6g} mm)"
+        turns = (f"the crank turns fully (r + |e| = {r + abs(e):.6g} ≤ l = {rod:.6g} mm)" if r + abs(e) <= rod
+                 else f"the crank cannot turn fully (r + |e| = {r + abs(e):.6g} > l = {rod:.6g} mm)")
+        out.append(f"slider-crank: {kind}, crank r {r:.6g} mm, rod l {rod:.6g} mm; {turns}")
+    elif g.kind is GroupKind.RPR:
+        pin = g.outer_i if on_crank_i else g.outer_j
+        r, dist = _d(lk, drv.pivot, pin), _d(lk, drv.pivot, og)
+        how = ("the guide swings (crank shorter than the pivots' distance)" if r < dist else
+               "the guide turns fully (a Whitworth quick-return drive)")
+        out.append(f"inverted slider-crank: crank {r:.6g} mm, pivots {dist:.6g} mm apart; {how}")
+    return out
+
+
+def _outputs(lk: Linkage, plan: Plan) -> list[tuple[str, str, str | None]]:
+    """(link, "rocker" | "slider", guide joint or pivot) for each output of the linkage."""
+    out = []
+    ground = set(lk.link(lk.ground).joints)
+    drv = lk.driver
+    extra = set(getattr(plan.drive, "extra", {}) or ())
+    for step in plan.steps:
+        g = step.group
+        if g.fixed:
+            continue
+        for link in (g.link_i, g.link_j):
+            if link == drv.link or link in extra:
+                continue
+            joints = lk.link(link).joints
+            pivots = [j for j in joints if j in ground and lk.joint(j).kind is JointKind.R]
+            guides = [j for j in joints if j in ground and lk.joint(j).kind is JointKind.P]
+            if pivots:
+                out.append((link, "rocker", pivots[0]))
+            elif guides:
+                out.append((link, "slider", guides[0]))
+    return out
+
+
+def _value(sol: Solution, lk: Linkage, link: str, kind: str, joint: str) -> np.ndarray:
+    """The output's coordinate: a rocker's angle (rad, unwrapped), a slider's position along its
+    guide (mm)."""
+    if kind == "rocker":
+        return sol.angle(link)
+    j = lk.joint(joint)
+    u = np.array([math.cos(math.radians(j.axis_deg or 0.0)), math.sin(math.radians(j.axis_deg or 0.0))])
+    return sol.point(link, j.at) @ u
+
+
+def _output_lines(lk: Linkage, plan: Plan, sol: Solution) -> list[str]:
+    drv = lk.driver
+    T = drv.period
+    n = len(sol)
+    lines = []
+    for link, kind, joint in _outputs(lk, plan):
+        y = _value(sol, lk, link, kind, joint)
+        if not np.all(np.isfinite(y)):
+            lines.append(f"output {link!r} ({kind}): the cycle stops at assembly limits (no stroke over a full cycle)")
+            continue
+        if kind == "rocker" and abs(y[-1] + (y[1] - y[0]) - y[0]) > math.pi:   # unwrapped: it gained a turn
+            lines.append(f"output {link!r} (rocker about {joint}): turns fully")
+            continue
+
+        def at(t: float) -> float:
+            m = at_times(drv, plan.theta0, np.array([t])) if (drv.linear or not drv.law.is_constant) else None
+            q = m.q if m is not None else np.array([plan.theta0 + math.copysign(2 * math.pi * t / T, drv.speed_rpm)])
+            s = plan.evaluate(q, order=0)
+            return float(_value(s, lk, link, kind, joint)[0])
+
+        dt = T / n
+        k_lo, k_hi = int(np.argmin(y)), int(np.argmax(y))
+        t_lo, y_lo = golden_min(at, sol.t[k_lo] - dt, sol.t[k_lo] + dt, GOLDEN)
+        t_hi, neg = golden_min(lambda t: -at(t), sol.t[k_hi] - dt, sol.t[k_hi] + dt, GOLDEN)
+        y_hi = -neg
+        fwd = (t_hi - t_lo) % T
+        ratio = fwd / (T - fwd) if T - fwd > 0 else math.inf
+        if kind == "rocker":
+            travel = f"swings {math.degrees(y_hi - y_lo):.4f}° (angle {math.degrees(y_lo):.4f}° to {math.degrees(y_hi):.4f}°)"
+        else:
+            travel = f"stroke {y_hi - y_lo:.6g} mm (along its guide, {y_lo:.6g} to {y_hi:.6g} mm)"
+        lines.append(f"output {link!r} ({kind}): {travel}; time ratio {ratio:.6f} (out {fwd:.6g} s, back "
+                     f"{T - fwd:.6g} s)")
+    return lines
+
+
+def classification(lk: Linkage, plan: Plan, sol: Solution | None) -> list[str]:
+    """Lines describing the linkage's kind and its outputs (see the module docstring); ``sol`` is
+    the cycle's sweep (outputs are not described without it)."""
+    out = _structure_lines(lk, plan)
+    if sol is not None and len(sol) > 2:
+        out += _output_lines(lk, plan, sol)
+    return out
+
+
+__all__ = ["classification", "fourbar_type"]
