@@ -20,7 +20,7 @@ from enum import StrEnum
 from typing import Any
 
 from ..errors import GeometryError, Problem
-from .limits import speed_problem
+from .limits import SMALLEST, speed_problem
 from .drawing import DEFAULT_MIN_WEB
 
 SCHEMA = "geneva.schema.json"
@@ -353,9 +353,13 @@ class _Checker:
         self.problems.append(Problem(f"{self.path}.{where}", msg, self.eid))
 
     def positive(self, where: str, value: float, unit: str) -> bool:
-        if value > 0:
+        least = SMALLEST.get(unit, 0.0)
+        if value > 0 and value >= least:
             return True
         u = f" {unit}" if unit else ""
+        if value > 0:
+            self.bad(where, f"must be at least {least:g}{u} (the smallest value accepted); got {value:g}{u}")
+            return False
         by = "at the limit" if value == 0 else f"{_num(-value)}{u} below the limit"
         self.bad(where, f"must be > 0{u}; got {_num(value)}{u} ({by})")
         return False

@@ -61,3 +61,21 @@ def test_elements_of_every_type_are_checked_on_replace_and_add():
         ws.apply(AddElement(bad))
     assert [e.id for e in ws.scene.elements] == [g.id]
     assert element_problems(g) == [] and element_problems(lever) == []
+
+
+@pytest.mark.parametrize("key, value, limit", [("roller_length", 1e-300, "1e-06 mm"),
+                                               ("center_distance", 5e-324, "1e-06 mm"),
+                                               ("material.wheel.E", 1e-9, "0.001 MPa"),
+                                               ("wear.specific_wear_rate", 1e-300, "1e-12 mm³/(N·m)"),
+                                               ("wear.allowed_wear", 5e-324, "1e-06 mm")])
+def test_positive_quantities_have_a_smallest_physical_value(key, value, limit):
+    """A roller 1e-300 mm long passed as 'positive' and overflowed the contact pressure."""
+    doc = json.loads(example_path("geneva_z8").read_text())
+    node = doc["elements"][0]
+    *parents, leaf = key.split(".")
+    for part in parents:
+        node = node.setdefault(part, {})
+    node[leaf] = value
+    with pytest.raises(Exception) as info:
+        loads_scene(json.dumps(doc))
+    assert f"at least {limit}" in str(info.value) and key in str(info.value), str(info.value)
