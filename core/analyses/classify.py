@@ -19,6 +19,7 @@ slider-crank's kind, an actuator's stroke, and the stroke and time ratio of each
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -148,40 +149,74 @@ def _value(sol: Solution, lk: Linkage, link: str, kind: str, joint: str) -> np.n
     return sol.point(link, j.at) @ u
 
 
-def _output_lines(lk: Linkage, plan: Plan, sol: Solution) -> list[str]:
+@dataclass(frozen=True)
+class OutputMotion:
+    """How an output moves over one cycle: a ``rocker``'s angle (rad) or a ``slider``'s position
+    along its guide (mm) from ``low`` to ``high``; ``t_out`` the time (s) from low to high and
+    ``t_back`` from high back to low (None when it turns fully or stops at an assembly limit);
+    ``note``: why there is no stroke."""
+
+    link: str
+    kind: str
+    joint: str
+    low: float = math.nan
+    high: float = math.nan
+    t_out: float | None = None
+    t_back: float | None = None
+    note: str = ""
+
+    @property
+    def travel(self) -> float:
+        """high − low: the swing (rad) or the stroke (mm)."""
+        return self.high - self.low
+
+    @property
+    def time_ratio(self) -> float:
+        """t_out / t_back (NaN when there is none)."""
+        return self.t_out / self.t_back if self.t_out is not None and self.t_back else math.nan
+
+    def text(self) -> str:
+        if self.note:
+            return f"output {self.link!r} ({self.kind}): {self.note}"
+        if self.kind == "rocker":
+            travel = (f"swings {math.degrees(self.travel):.4f}° (angle {math.degrees(self.low):.4f}° to "
+                      f"{math.degrees(self.high):.4f}°)")
+        else:
+            travel = f"stroke {self.travel:.6g} mm (along its guide, {self.low:.6g} to {self.high:.6g} mm)"
+        return (f"output {self.link!r} ({self.kind}): {travel}; time ratio {self.time_ratio:.4f} "
+                f"(out {self.t_out:.6g} s, back {self.t_back:.6g} s)")
+
+
+def output_motions(lk: Linkage, plan: Plan, sol: Solution) -> list[OutputMotion]:
+    """The motion of every output over the cycle swept by ``sol`` (see the module docstring)."""
     drv = lk.driver
     T = drv.period
     n = len(sol)
-    lines = []
+    out = []
     for link, kind, joint in _outputs(lk, plan):
         y = _value(sol, lk, link, kind, joint)
         if not np.all(np.isfinite(y)):
-            lines.append(f"output {link!r} ({kind}): the cycle stops at assembly limits (no stroke over a full cycle)")
+            out.append(OutputMotion(link, kind, joint, note="the cycle stops at assembly limits (no stroke over a "
+                                                            "full cycle)"))
             continue
         if kind == "rocker" and abs(y[-1] + (y[1] - y[0]) - y[0]) > math.pi:   # unwrapped: it gained a turn
-            lines.append(f"output {link!r} (rocker about {joint}): turns fully")
+            out.append(OutputMotion(link, kind, joint, note=f"turns fully about {joint}"))
             continue
 
         def at(t: float) -> float:
-            m = at_times(drv, plan.theta0, np.array([t])) if (drv.linear or not drv.law.is_constant) else None
-            q = m.q if m is not None else np.array([plan.theta0 + math.copysign(2 * math.pi * t / T, drv.speed_rpm)])
-            s = plan.evaluate(q, order=0)
-            return float(_value(s, lk, link, kind, joint)[0])
+            if drv.linear or not drv.law.is_constant:
+                q = at_times(drv, plan.theta0, np.array([t])).q
+            else:
+                q = np.array([plan.theta0 + math.copysign(2 * math.pi * t / T, drv.speed_rpm)])
+            return float(_value(plan.evaluate(q, order=0), lk, link, kind, joint)[0])
 
         dt = T / n
         k_lo, k_hi = int(np.argmin(y)), int(np.argmax(y))
         t_lo, y_lo = golden_min(at, sol.t[k_lo] - dt, sol.t[k_lo] + dt, GOLDEN)
         t_hi, neg = golden_min(lambda t: -at(t), sol.t[k_hi] - dt, sol.t[k_hi] + dt, GOLDEN)
-        y_hi = -neg
         fwd = (t_hi - t_lo) % T
-        ratio = fwd / (T - fwd) if T - fwd > 0 else math.inf
-        if kind == "rocker":
-            travel = f"swings {math.degrees(y_hi - y_lo):.4f}° (angle {math.degrees(y_lo):.4f}° to {math.degrees(y_hi):.4f}°)"
-        else:
-            travel = f"stroke {y_hi - y_lo:.6g} mm (along its guide, {y_lo:.6g} to {y_hi:.6g} mm)"
-        lines.append(f"output {link!r} ({kind}): {travel}; time ratio {ratio:.6f} (out {fwd:.6g} s, back "
-                     f"{T - fwd:.6g} s)")
-    return lines
+        out.append(OutputMotion(link, kind, joint, y_lo, -neg, fwd, T - fwd))
+    return out
 
 
 def classification(lk: Linkage, plan: Plan, sol: Solution | None) -> list[str]:
@@ -189,8 +224,8 @@ def classification(lk: Linkage, plan: Plan, sol: Solution | None) -> list[str]:
     the cycle's sweep (outputs are not described without it)."""
     out = _structure_lines(lk, plan)
     if sol is not None and len(sol) > 2:
-        out += _output_lines(lk, plan, sol)
+        out += [m.text() for m in output_motions(lk, plan, sol)]
     return out
 
 
-__all__ = ["classification", "fourbar_type"]
+__all__ = ["OutputMotion", "classification", "fourbar_type", "output_motions"]
