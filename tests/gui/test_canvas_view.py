@@ -156,7 +156,10 @@ def test_right_click_cancels_a_half_placed_dyad(qtbot):
 def test_tool_actions_are_exclusive_with_shortcuts(qtbot):
     ctl, view, user = make_view(qtbot)
     acts = view.toolbox.actions
-    assert [a.shortcut().toString() for a in acts.values()][:9] == ["S", "G", "C", "R", "P", "I", "K", "D", "M"]
+    assert [a.shortcut().toString() for a in acts.values()] == ["S", "G", "C", "R", "P", "I", "K", "D", "M", "W", "O",
+                                                                "Y", "X", ""]
+    # Insert is made active by Examples > Insert, not from the toolbar
+    assert acts["insert"] not in view.tool_actions and len(view.tool_actions) == len(acts) - 1
     acts["crank"].trigger()
     assert view.toolbox.name == "crank" and acts["crank"].isChecked() and not acts["select"].isChecked()
     assert view.toolbox.tool.hint in view.messages[-1]
