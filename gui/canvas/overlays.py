@@ -195,7 +195,7 @@ class GenevaOverlayItem(_ArraysItem):
                 painter.drawLine(QPointF(x - s, y + s), QPointF(x + s, y - s))
                 painter.drawEllipse(QPointF(x, y), 1.5 * s, 1.5 * s)
             if r["loaded"]:
-                _text(painter, r["loaded"][0], r["loaded_text"], px, 10.0, -18.0, BAD, 10)
+                _text(painter, r["label_at"], r["loaded_text"], px, 0.0, -32.0, BAD, 10)
 
 
 def _rot(v: np.ndarray, a: float) -> np.ndarray:

@@ -117,3 +117,25 @@ def test_an_impossible_drive_during_a_drag_is_explained_and_refused_on_release(q
     user.release((20, 0))
     assert ctl.scene.element(eid) == before and ctl.undo_stack.count() == count
     assert "kept as it was" in view.messages[-1]
+
+
+def test_the_tool_is_a_plain_class_over_canvas_events(qtbot):
+    """No Qt mouse events: CanvasEvents straight into the tool, as the view would hand them."""
+    from mechsketch.gui.canvas.events import CanvasEvent
+    from mechsketch.gui.canvas.geneva_tool import GenevaTool
+    from mechsketch.gui.canvas.tool_base import ToolContext
+    from mechsketch.gui.controller import SceneController
+
+    ctl = SceneController()
+    said = []
+    ctl.message.connect(said.append)
+    tool = GenevaTool(ToolContext(ctl))
+    tool.handle(CanvasEvent("press", (10.0, 20.0)))
+    tool.handle(CanvasEvent("move", (10.0, 120.0)))
+    assert not tool.overlay().bad and "A = 100.00 mm" in tool.overlay().labels[0][1]
+    assert tool.key("5") and tool.slots == 5
+    assert not tool.key("2") and not tool.key("x")
+    tool.handle(CanvasEvent("press", (10.0, 120.0)))
+    (el,) = ctl.scene.elements
+    assert el.slots == 5 and el.crank_center == (10.0, 20.0) and el.wheel_direction_deg == pytest.approx(90.0)
+    assert "z = 5" in said[-1]
