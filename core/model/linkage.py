@@ -189,7 +189,7 @@ class Linkage:
     @property
     def has_dynamics(self) -> bool:
         """Some link has a mass or some load is applied: the forces are not all zero."""
-        return any(m.mass > 0 for m in self.masses) or bool(self.loads)
+        return any(m.mass > 0 or (m.inertia or 0.0) > 0 for m in self.masses) or bool(self.loads)
 
     def with_mass(self, link_id: str, mass: LinkMass | None) -> "Linkage":
         """Set (or with None remove) the mass properties of ``link_id``."""
