@@ -45,7 +45,7 @@ class CanvasExtras(QObject):
             if key:
                 act.setShortcut(QKeySequence(key))
             act.setStatusTip(tip)
-            act.toggled.connect(lambda on, n=name: self.overlays.set_shown(n, on))
+            act.toggled.connect(lambda on, n=name: self._toggled(n, on))
             view.addAction(act)
             self.actions[name] = act
         ctl = self.controller
@@ -53,6 +53,15 @@ class CanvasExtras(QObject):
         ctl.frameChanged.connect(self.refresh)
         ctl.selectionChanged.connect(self.refresh)
         self.refresh()
+
+    def _toggled(self, name: str, on: bool) -> None:
+        """Switch an overlay; a switch that cannot be on (centrodes without a link) goes back off."""
+        self.overlays.set_shown(name, on)
+        act = self.actions[name]
+        if act.isChecked() != self.overlays.shown[name]:
+            act.blockSignals(True)
+            act.setChecked(self.overlays.shown[name])
+            act.blockSignals(False)
 
     def refresh(self, *_args) -> None:
         """Redraw handles and overlays for the displayed frame and the current selection."""

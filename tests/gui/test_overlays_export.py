@@ -142,6 +142,7 @@ def test_centrodes_without_a_selected_link_explain_and_stay_off(shell):
     view.extras.actions["centrodes"].trigger()
     assert "select a link first" in said[-1]
     assert view.extras.overlays.centrodes.item is None
+    assert not view.extras.actions["centrodes"].isChecked()          # the switch went back off
 
 
 @pytest.mark.parametrize("suffix", [".gif", ".mp4"])
