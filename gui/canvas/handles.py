@@ -22,6 +22,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
+from mechsketch.core.errors import MechsketchError
 from mechsketch.core.model.edits import ReplaceElement
 from mechsketch.core.model.geneva import Geneva
 from mechsketch.core.model.geneva import parse as parse_geneva
@@ -116,7 +117,7 @@ def rolling_handles(el: RollingLever, res, k: int) -> list[Handle]:
     if p0 is None or not all(math.isfinite(v) for v in p0):
         try:
             p0 = el.drawn_contacts()[1]
-        except ValueError:
+        except MechsketchError:
             p0 = sc.center
     ds = el.slider_axis
     reach = 0.5 * sc.radius
@@ -257,7 +258,13 @@ class HandleLayer:
             self._grip = {"roller": (cc[0] + r * math.cos(rho), cc[1] + r * math.sin(rho))}
         else:
             fr = getattr(res, "frames", None)
-            p0 = tuple(fr.P0[k]) if fr is not None and len(fr) else el.drawn_contacts()[1]
+            if fr is not None and len(fr):
+                p0 = tuple(fr.P0[k])
+            else:   # not synthesised: the drawn contact, or the slider circle's centre if there is none
+                try:
+                    p0 = el.drawn_contacts()[1]
+                except MechsketchError:
+                    p0 = el.slider_circle.center
             self._grip = {"frame": lever_frame(el, res, k), "p0": p0}
         self._explain(f"{h.element}: drag the {h.label.split(' (')[0]}")
 

@@ -145,3 +145,25 @@ def test_methods_side_by_side_in_the_properties_show_the_cores_slip_measures(she
     assert float(table.item(i, 2).text()) > 0.5
     k = labels.index("slip of the motion (mm)")
     assert float(table.item(k, 0).text()) < 1e-8 and table.item(k, 1).text() == "—"
+
+
+def test_handles_of_a_lever_that_cannot_be_synthesised_still_drag_back_to_a_good_one(qtbot):
+    """A lever whose stroke leaves the working range draws only its note; its handles still work."""
+    from dataclasses import replace as dc_replace
+
+    from mechsketch.core.model.edits import ReplaceElement
+    from mechsketch.core.model.rolling_lever import Stroke
+
+    ctl, view, user = make_view(qtbot, window=WINDOW)
+    _draw(user)
+    eid = ctl.scene.ids[0]
+    bad = dc_replace(ctl.scene.element(eid), stroke=Stroke(0.0, -3.0))      # far beyond the range
+    assert ctl.push(ReplaceElement(bad, "too long a stroke"))
+    assert ctl.element_result(eid).frames is None
+    user.tool("select")
+    ctl.set_selection([(eid, "element", eid)])
+    names = {h.name for h in view.extras.handles.handles()}
+    assert "pivot" in names and "axis" in names
+    user.drag((-150, -40), (-140, -40), steps=2)          # still impossible: explained, nothing raised
+    assert ctl.scene.element(eid).rocker_pivot == (-150.0, -40.0)
+    assert "impossible" in " ".join(view.messages[-3:]) or "kept as it was" in view.messages[-1]
