@@ -43,6 +43,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import RequestError
+from ..model.drivers import input_text
 from ..model.linkage import JointKind, Linkage
 from ..solver.kernels import cross
 from ..solver.plan import Plan, Solution
@@ -50,7 +51,7 @@ from ..solver.structure import Group
 from .forces_pass import MM, Kinetostatics, Pass, _pin_force
 
 __all__ = ["COND_WARN", "DeadPointNote", "DriverEffort", "ForceResult", "FrictionResult", "MM",
-           "PowerBalance", "SlideReaction", "linkage_forces"]
+           "PowerBalance", "SlideReaction", "input_label", "linkage_forces"]
 #: a group whose conditioning falls below this is named in the report (forces ~ 1/conditioning)
 COND_WARN = 0.1
 #: friction iteration: at most this many closed-form passes, until the change is below FRICTION_TOL
@@ -181,6 +182,8 @@ class ForceResult:
     friction: FrictionResult | None = None
     seconds: float = 0.0
     groups: tuple[Group, ...] = ()
+    #: the input's unit: "rad" (a crank's angle) or "mm" (an actuator's length or displacement)
+    unit: str = "rad"
     _notes: list | None = field(default=None, repr=False)
     _power: PowerBalance | None = field(default=None, repr=False)
     _power_args: tuple | None = field(default=None, repr=False)
@@ -227,19 +230,28 @@ class ForceResult:
 @dataclass(frozen=True)
 class DeadPointNote:
     """Near a dead point of group ``group``: its conditioning ``cond`` is lowest at sample
-    ``index`` (input ``input_deg``°), where the largest reaction of its joints is ``force`` N at
-    joint ``joint``."""
+    ``index`` (input ``at``: "123.45°" for a crank, "956.00 mm" for an actuator), where the
+    largest reaction of its joints is ``force`` N at joint ``joint``."""
 
     group: str
     index: int
-    input_deg: float
+    at: str
     cond: float
     joint: str
     force: float
 
     def __str__(self) -> str:
-        return (f"{self.group}: conditioning {self.cond:.3g} at input {self.input_deg:.2f}° — forces "
+        return (f"{self.group}: conditioning {self.cond:.3g} at input {self.at} — forces "
                 f"grow as 1/conditioning there ({self.force:.4g} N at {self.joint})")
+
+
+def input_label(res: ForceResult, k: int) -> str:
+    """The input at sample ``k`` as read by a person: a crank angle in degrees in (−180°, 180°]
+    ("123.45°"), an actuator's length or displacement in mm ("956.00 mm")."""
+    x = float(res.input[k])
+    if res.unit == "rad":
+        x = math.remainder(x, 2 * math.pi)
+    return input_text(x, res.unit, 2)
 
 
 def _notes(res: ForceResult) -> list[DeadPointNote]:
@@ -262,8 +274,7 @@ def _notes(res: ForceResult) -> list[DeadPointNote]:
                 continue
             if f > best or not where:
                 best, where = f, j
-        deg = math.degrees(math.remainder(float(res.input[k]), 2 * math.pi))
-        out.append(DeadPointNote(name, k, deg, float(c[k]), where, best))
+        out.append(DeadPointNote(name, k, input_label(res, k), float(c[k]), where, best))
     return out
 
 
@@ -325,19 +336,17 @@ def linkage_forces(plan: Plan, sol: Solution) -> ForceResult:
         raise RequestError(f"forces need a solve with order 2 (accelerations); this one has order {sol.order}")
     if len(sol.groups) != len(plan.steps):
         raise RequestError("forces need every group solved: solve without a joints filter")
-    kind = str(getattr(plan.linkage.driver, "kind", "crank"))
-    if kind != "crank":
-        raise RequestError(f"forces of a linkage driven by a {kind} are not computed yet (its effort "
-                           "would be a force, driver.force): drive it with a crank")
     start = time.perf_counter()
     ks = Kinetostatics(plan, sol)
     n = ks.n
     drv = ks.lk.driver.link
-    w = ks.st[drv].omega          # the driver's speed (rad/s; an array under a motion law)
+    ekind = "torque" if ks.kind == "crank" else "force"
+    unit = MM if ekind == "torque" else 1.0     # the pass's effort: N·mm (crank) or N (actuator)
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        w = ks.motor_speed()      # rad/s (crank) or m/s (actuator): motor power = effort × w
         F, M = ks.applied()
         p = ks.run(F, M)
-        effort = _arr(MM * p.effort, n)
+        effort = _arr(unit * p.effort, n)
         check = effort
         for _j, _on, _by, f in p.pairs:   # a NaN or inf anywhere spoils the sum
             check = check + f
@@ -356,15 +365,15 @@ def linkage_forces(plan: Plan, sol: Solution) -> ForceResult:
         friction = None
         if ks.friction_pairs():
             fp, F2, M2, its, conv = ks.with_friction(F, M, p, FRICTION_TOL, FRICTION_MAX_ITER)
-            feff = np.where(valid, _arr(MM * fp.effort, n), np.nan)
+            feff = np.where(valid, _arr(unit * fp.effort, n), np.nan)
             fpins, fslides = _views(ks, fp, valid, all_valid)
             friction = FrictionResult({fr.joint: fr.radius for fr in ks.lk.friction},
-                                      DriverEffort("torque", drv, feff), fpins, fslides,
+                                      DriverEffort(ekind, drv, feff), fpins, fslides,
                                       _balance(ks, F2, M2, feff * w, valid), its, conv & valid)
-    res = ForceResult(ks.lk, sol.input, sol.t, valid, DriverEffort("torque", drv, effort), pins, slides,
+    res = ForceResult(ks.lk, sol.input, sol.t, valid, DriverEffort(ekind, drv, effort), pins, slides,
                       frame_f, frame_m, {s.group.name: _arr(sol.group_output(s.group.name).cond, n)
                                          for s in plan.steps},
-                      friction, groups=tuple(s.group for s in plan.steps))
+                      friction, groups=tuple(s.group for s in plan.steps), unit=plan.input_unit)
     res._power_args = (ks, F, M, effort * w, valid)
     res.seconds = time.perf_counter() - start
     return res

@@ -71,10 +71,21 @@ class Kinetostatics:
         self.at = {j.id: _c(j.at) for j in lk.joints}
         self.ground = lk.ground
         self.st: dict[str, LinkState] = {k: sol.link_state(k) for k in lk.link_ids}
-        self.pivot = plan.pivot
+        drv = lk.driver
+        self.kind = str(getattr(drv, "kind", "crank"))
+        #: the frame's reference point: the drawn position of the driver's joint (crank pivot,
+        #: slider guide, cylinder slide)
+        self.pivot = self.at[drv.pivot]
         self._arm: dict[tuple[str, complex], object] = {}
         self._carm: dict[tuple[str, complex], object] = {}
         self._normal: dict[tuple[str, str], object] = {}
+        #: a cylinder: (barrel, rod, end pivot M, end pivot H, slide joint, mode ±1, offset c mm)
+        self.cyl: tuple | None = None
+        if self.kind == "cylinder":
+            cd = plan.drive
+            self.cyl = (cd.link, cd.rod, cd.m, cd.h, cd.slide, cd.geometry.mode, cd.geometry.c)
+            # the virtual link V (named as the barrel) reaches from M to H: its arm to H is H − M
+            self._arm[(cd.link, self.at[cd.h])] = self.st[cd.rod].A - self.st[cd.link].A
         #: inertia loads per massive link (force N, moment N·mm about its reference), for the power
         self.inertia: dict[str, tuple[object, object]] = {}
 
@@ -229,9 +240,19 @@ class Kinetostatics:
             F[k] = _sub(F[k], f)
             M[k] = _sub(M[k], cross(_sub(q, self.ref(k)), f) + c)
 
+        cyl = self.cyl
+        effort = None
         for step in reversed(self.plan.steps):
             g = step.group
             i, j = g.link_i, g.link_j
+            vgroup = cyl is not None and cyl[0] in (i, j)
+            if vgroup:   # barrel and rod locked together at the current length: the link V
+                rod_f, rod_m, first = F[cyl[1]], M[cyl[1]], len(pairs)
+                F[cyl[0]] = _add(F[cyl[0]], rod_f)
+                if not _zero(rod_f):
+                    M[cyl[0]] = _add(M[cyl[0]], _add(rod_m, (carm(cyl[0], at[cyl[3]]) * rod_f).imag))
+                else:
+                    M[cyl[0]] = _add(M[cyl[0]], rod_m)
             Fi, Fj = F[i], F[j]
             tot = _add(Fi, Fj)
             if g.kind is GroupKind.RRR:
@@ -295,14 +316,65 @@ class Kinetostatics:
                 slides[g.outer_j] = (j, f2, q, c2)
                 take(g.known_i, X, m0)
                 take_at(g.known_j, f2, q, c2)
+            if vgroup:
+                effort = self._cylinder(pairs, first, slides, rod_f, rod_m)
         drv = self.lk.driver
         pv = at[drv.pivot]
-        effort = -about(drv.link, pv)
-        reaction = -F[drv.link]
-        pairs.append((drv.pivot, drv.link, self.ground, reaction))
-        take(self.ground, reaction, pv)
-        M[self.ground] = _sub(M[self.ground], effort)
+        if self.kind == "crank":
+            effort = -about(drv.link, pv)
+            reaction = -F[drv.link]
+            pairs.append((drv.pivot, drv.link, self.ground, reaction))
+            take(self.ground, reaction, pv)
+            M[self.ground] = _sub(M[self.ground], effort)
+        elif self.kind == "slider":   # the guide's normal force and couple, the actuator's push along u
+            k = drv.link
+            u = -1j * self.normal(k, drv.pivot)
+            effort = -(F[k] * np.conjugate(u)).real          # N along the guide, + extending
+            f = _sub(-F[k], effort * u)                      # the guide's normal force on the slider
+            q = self.point(k, pv)
+            c = -about(k, pv)
+            slides[drv.pivot] = (k, f, q, c)
+            take_at(self.ground, _add(f, effort * u), q, c)
         return Pass(effort, pairs, slides, F[self.ground], M[self.ground])
+
+    def _cylinder(self, pairs: list, first: int, slides: dict, rod_f, rod_m):
+        """After the group of the cylinder's link V: name the rod in its pairs at H, put the
+        slide's reaction in ``slides`` and return the driving force (N, + extending) from the rod's
+        equilibrium (its loads ``rod_f``/``rod_m`` about H, the pin force at H, the barrel's push)."""
+        barrel, rod, _m, h, slide, mode, _c0 = self.cyl
+        r_h = 0j
+        for n in range(first, len(pairs)):
+            j, on, by, f = pairs[n]
+            if j != h:
+                continue
+            if on == barrel:
+                on, r_h = rod, _add(r_h, f)
+            elif by == barrel:
+                by, r_h = rod, _sub(r_h, f)
+            pairs[n] = (j, on, by, f)
+        t = -_add(rod_f, r_h)                                # the barrel's force on the rod
+        n_vec = self.normal(barrel, slide)
+        u = -1j * n_vec
+        axial = (t * np.conjugate(u)).real
+        f = (t * np.conjugate(n_vec)).real * n_vec
+        p0 = self.at[slide]
+        # the barrel's moment on the rod about H is −rod_m; about the rod's point of the slide:
+        c = _sub(-rod_m, (self.carm(rod, p0) * t).imag) if not _zero(self.arm(rod, p0)) else -rod_m
+        slides[slide] = (rod, f, self.point(rod, p0), c)
+        return mode * axial
+
+    def motor_speed(self):
+        """What the driving effort multiplies into the motor power (W): the crank's ω (rad/s,
+        effort N·m); for an actuator its extension rate in m/s (effort N): a slider's speed along
+        its guide, a cylinder's rod speed out of the barrel d|σ|/dt = L·L̇/√(L² − c²) (L̇ when its
+        axis passes through both pivots)."""
+        if self.kind == "crank":
+            return self.st[self.lk.driver.link].omega
+        rate = self.sol.omega_driver
+        if self.kind == "cylinder" and self.cyl[6] != 0.0:
+            L, c = self.sol.input, self.cyl[6]
+            rate = L * rate / np.sqrt((L - c) * (L + c))
+        return MM * rate
 
     # -- checks ---------------------------------------------------------------------------
     def power_terms(self, F: dict, M: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

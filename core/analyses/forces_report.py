@@ -10,7 +10,7 @@ Columns (SI units), after the kinematic columns of the linkage table:
   further pair per further link L, ``J[L].Fx`` ``J[L].Fy``: the force on L from the joint (the
   first link takes the balance);
 - ``shaking.Fx`` ``shaking.Fy`` N and ``shaking.M`` N·m: what the mechanism exerts on the frame
-  (moment about the driver's pivot);
+  (moment about the driver's pivot; for an actuator about its joint's drawn position);
 - only when some joint has friction: ``driver.torque_friction`` N·m, the driving torque with
   Coulomb friction, beside the frictionless one.
 """
@@ -21,7 +21,7 @@ import math
 import numpy as np
 
 from ..model.linkage import JointKind
-from .forces import ForceResult
+from .forces import ForceResult, input_label
 from .table import Table
 
 
@@ -62,7 +62,7 @@ def force_table(res: ForceResult, base: Table | None = None) -> Table:
 
 
 def _at(res: ForceResult, k: int) -> str:
-    return f"{math.degrees(math.remainder(float(res.input[k]), 2 * math.pi)):.2f}°"
+    return input_label(res, k)
 
 
 def _peak(values: np.ndarray) -> tuple[float, int]:
@@ -104,7 +104,8 @@ def force_summary(res: ForceResult) -> str:
     p, k = _peak(sf)
     m, km = _peak(res.shaking_moment)
     lines.append(f"  shaking: peak |F| {p:.6g} N at input {_at(res, k)}, peak |M| {abs(m):.6g} N·m at "
-                 f"input {_at(res, km)} (about the driver pivot {lk.driver.pivot})")
+                 f"input {_at(res, km)} (about the driver pivot {lk.driver.pivot}"
+                 f"{'' if res.unit == 'rad' else ', as drawn'})")
     pw = res.power
     lines.append(f"  power balance (motor + loads − dKE/dt): worst relative residual {pw.worst:.2e}")
     invalid = int((~res.valid).sum())

@@ -11,7 +11,16 @@ from the scene's fields (not the core's code). The kinematics come from an adapt
 * :class:`FloatKin` — the float :class:`Solution` at one sample (numpy solve: the "independent
   linear solve" of the issue);
 * :class:`MpKin` — the 50-digit mpmath reference of :mod:`reference` at one sample (mpmath
-  ``lu_solve``: the mpmath reference, independent of the float kinematics too).
+  ``lu_solve``: the mpmath reference, independent of the float kinematics too);
+* :class:`DriveKin` — the 50-digit reference of :mod:`reference_drive` for any driver (a crank, a
+  cylinder of driven length, a slider driven along its guide): positions by Newton at 80 digits,
+  rates by five-point differences in the input.
+
+The driver's unknown is a torque T on the crank (N·m, counter-clockwise), or for a linear actuator
+a force P (N, positive extending): a slider's push along its guide's direction u0 at its point of
+the guide (the frame takes −P·u0 there); a cylinder's push on its rod along the slide axis
+u = R(θ_barrel)·u0 turned towards the rod's pivot H, at the rod's point of the slide, and the
+opposite on the barrel.
 """
 from __future__ import annotations
 
@@ -21,7 +30,9 @@ import mpmath
 import numpy as np
 
 from mechsketch.core import JointKind, Linkage
+from mechsketch.core.model.drivers import DriverKind
 from reference import MpReference
+from reference_drive import WORK, DriveReference
 
 R = JointKind.R
 
@@ -94,8 +105,64 @@ class MpKin:
         return [x[i] for i in range(len(b))]
 
 
+class DriveKin:
+    """The 50-digit kinematics of :class:`reference_drive.DriveReference` at the input and input
+    rates of ``sol``'s sample ``k``: positions at five inputs q0 + j·h (h = 1e-12·max(|q0|, 1)),
+    velocities and accelerations of points and links by five-point differences."""
+
+    def __init__(self, ref: DriveReference, sol, k: int) -> None:
+        mp = mpmath.mp
+        self.ref, self.k, self.num = ref, k, mpmath.mpf
+        self.qd = float(np.broadcast_to(sol.omega_driver, (len(sol),))[k])
+        self.qdd = float(np.broadcast_to(sol.alpha_driver, (len(sol),))[k])
+        guess = ref.guess_from(sol, k)
+        with mpmath.workdps(WORK):
+            q0 = mp.mpf(float(sol.input[k]))
+            self.h = mp.mpf("1e-12") * max(abs(q0), mp.one)
+            self.qs = {j: ref.positions(q0 + j * self.h, guess) for j in (-2, -1, 0, 1, 2)}
+
+    def _pva(self, f: dict):
+        with mpmath.workdps(WORK):
+            h = self.h
+            d1 = (f[-2] - 8 * f[-1] + 8 * f[1] - f[2]) / (12 * h)
+            d2 = (-f[-2] + 16 * f[-1] - 30 * f[0] + 16 * f[1] - f[2]) / (12 * h * h)
+            return f[0], d1 * self.qd, d2 * self.qd * self.qd + d1 * self.qdd
+
+    def pva(self, link, p0):
+        with mpmath.workdps(WORK):
+            p0 = (mpmath.mpf(p0[0]), mpmath.mpf(p0[1]))
+            pts = {j: self.ref.point(q, link, p0) for j, q in self.qs.items()}
+            x, y = (self._pva({j: pts[j][c] for j in pts}) for c in (0, 1))
+            return tuple(zip(x, y))
+
+    def _theta(self, link):
+        return self._pva({j: self.ref.theta(q, link) for j, q in self.qs.items()})
+
+    def omega(self, link):
+        return self._theta(link)[1]
+
+    def alpha(self, link):
+        return self._theta(link)[2]
+
+    def theta(self, link):
+        return self.ref.theta(self.qs[0], link)
+
+    def cos(self, x):
+        return mpmath.cos(x)
+
+    def sin(self, x):
+        return mpmath.sin(x)
+
+    def sqrt(self, x):
+        return mpmath.sqrt(x)
+
+    def solve(self, A, b):
+        x = mpmath.lu_solve(mpmath.matrix(A), mpmath.matrix(b))
+        return [x[i] for i in range(len(b))]
+
+
 def equilibrium(lk: Linkage, kin, couples: dict | None = None) -> dict:
-    """Driver torque (N·m), revolute-joint forces {(joint, link): (Fx, Fy)} N, prismatic
+    """Driver torque (N·m; for a linear actuator its force, N, see the module docstring), revolute-joint forces {(joint, link): (Fx, Fy)} N, prismatic
     reactions {joint: (N, C)} (N, N·m about the later link's point of the joint), shaking force
     (Fx, Fy) N and moment N·m about the driver pivot, at one sample of ``kin``. ``couples``:
     further known couples {link: N·m} (the friction moments of a result under test)."""
@@ -153,6 +220,22 @@ def equilibrium(lk: Linkage, kin, couples: dict | None = None) -> dict:
         th = kin.theta(link) + num(u0)
         return -kin.sin(th), kin.cos(th)
 
+    def actuator():
+        """(ex, ey, point, link pushed, link pushing): the direction of a positive driving force."""
+        drv = lk.driver
+        jid = drv.pivot
+        ang = num(math.radians(lk.joint(jid).axis_deg))
+        if drv.kind is DriverKind.SLIDER:
+            return kin.cos(ang), kin.sin(ang), kin.pva(drv.link, lk.joint(jid).at)[0], drv.link, lk.ground
+        rod = next(k for k in lk.links_of(jid) if k != drv.link)
+        th = kin.theta(drv.link) + ang
+        ux, uy = kin.cos(th), kin.sin(th)
+        m = next(x for x in lk.link(drv.link).joints if x != jid)
+        h = next(x for x in lk.link(rod).joints if x != jid)
+        pm, ph = kin.pva(drv.link, lk.joint(m).at)[0], kin.pva(rod, lk.joint(h).at)[0]
+        sign = 1 if ux * (ph[0] - pm[0]) + uy * (ph[1] - pm[1]) >= 0 else -1
+        return sign * ux, sign * uy, kin.pva(rod, lk.joint(jid).at)[0], rod, drv.link
+
     for c, key in enumerate(cols):
         if key[0] == "pin":
             _, jid, b, comp = key
@@ -172,8 +255,12 @@ def equilibrium(lk: Linkage, kin, couples: dict | None = None) -> dict:
             a, b = lk.links_of(key[1])
             add_couple(b, c, num(1))
             add_couple(a, c, num(-1))
-        else:
+        elif lk.driver.kind is DriverKind.CRANK:
             add_couple(lk.driver.link, c, num(1))
+        else:
+            ex, ey, p, on, other = actuator()
+            add(on, c, ex, ey, p)
+            add(other, c, -ex, -ey, p)
 
     gx, gy = (num(lk.gravity[0]), num(lk.gravity[1])) if lk.gravity else (num(0), num(0))
     for m in lk.masses:
@@ -263,7 +350,11 @@ def equilibrium(lk: Linkage, kin, couples: dict | None = None) -> dict:
                 on_frame(tension * ex, tension * ey, Pa)
             else:
                 on_frame(-tension * ex, -tension * ey, Pb)
-    sm -= x[-1]
+    if lk.driver.kind is DriverKind.CRANK:
+        sm -= x[-1]   # the motor's stator
+    elif lk.driver.kind is DriverKind.SLIDER:
+        ex, ey, p, _on, _by = actuator()
+        on_frame(-x[-1] * ex, -x[-1] * ey, p)
     sm -= sum((num(c) for link, c in (couples or {}).items() if link == lk.ground), num(0))
     out["shaking"] = (sfx, sfy, sm)
     return out
