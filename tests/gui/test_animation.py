@@ -34,7 +34,7 @@ def test_playing_a_few_frames_moves_the_canvas_without_solving(qtbot, no_solving
     ctl.frameChanged.connect(frames.append)
     player.play()
     assert player.is_playing and player.play_action.isChecked()
-    qtbot.waitUntil(lambda: len(frames) >= 3, timeout=2000)
+    qtbot.waitUntil(lambda: len(frames) >= 3, timeout=20000)
     player.pause()
     assert not player.is_playing and not player.play_action.isChecked()
     assert ctl.frame > 0 and frames == sorted(frames)

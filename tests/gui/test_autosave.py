@@ -19,10 +19,12 @@ def test_the_timer_writes_the_unsaved_scene_atomically(shell, qtbot, tmp_path):
     parts = shell(state_dir=tmp_path / "state", autosave_ms=50)
     auto = parts.autosave
     assert auto.timer.interval() == 50
-    qtbot.wait(120)
+    ticks = []
+    auto.timer.timeout.connect(lambda: ticks.append(1))
+    qtbot.waitUntil(lambda: len(ticks) >= 2, timeout=20000)   # the timer ran, twice
     assert not auto.scene_file.exists()                  # nothing unsaved: nothing written
     parts.controller.push(MoveJoint("fourbar", "B", (21.0, 35.0)), "move joint B")
-    with qtbot.waitSignal(auto.saved, timeout=2000):
+    with qtbot.waitSignal(auto.saved, timeout=20000):
         pass
     assert load_scene(auto.scene_file) == parts.controller.scene
     meta = json.loads(auto.meta_file.read_text())

@@ -113,7 +113,7 @@ def test_playing_turns_the_crank_and_the_wheel_by_the_kinematics(shell, qtbot, m
     frames = []
     c.frameChanged.connect(frames.append)
     player.play()
-    qtbot.waitUntil(lambda: len(frames) >= 3, timeout=3000)
+    qtbot.waitUntil(lambda: len(frames) >= 3, timeout=20000)
     player.pause()
     direction = math.radians(el.wheel_direction_deg)
     for k in (c.frame, 0, 1500, 1799, 1800, 2399, 3000):

@@ -73,7 +73,7 @@ def test_playing_moves_the_lever_and_slider_by_the_drives_frames(shell, qtbot, m
     frames = []
     c.frameChanged.connect(frames.append)
     parts.window.player.play()
-    qtbot.waitUntil(lambda: len(frames) >= 3, timeout=3000)
+    qtbot.waitUntil(lambda: len(frames) >= 3, timeout=20000)
     parts.window.player.pause()
     d = res.drive
     for k in (c.frame, 0, 57, n // 2, n - 1):
