@@ -3,7 +3,8 @@
 For every linkage with masses or loads, each revolute joint's reaction (the force on its
 later-listed link, N) is an arrow from the joint to a stated scale (``1 mm ≙ … N``, chosen once
 per result from the largest reaction of the cycle), labelled with its size; the driving torque
-(N·m, counter-clockwise positive) is written at the driver's pivot. For every Geneva drive the
+(N·m, counter-clockwise positive; a linear actuator's force, N, positive extending) is written
+at the driver's joint. For every Geneva drive the
 crank torque from its contact model is written at the crank centre the same way. The forces are
 the workspace's (``Workspace.forces``: computed when the overlay is first shown, then cached);
 a frame change only indexes arrays.
@@ -100,7 +101,8 @@ def force_records(overlays) -> tuple[list[dict[str, Any]], list]:
         t = float(res.driver.values[k])
         pivot = pose.at[lk.driver.pivot]
         if math.isfinite(t):
-            records.append({"at": pivot, "torque": f"{lk.driver.link}: T = {t:.4g} N·m"})
+            sym = "T" if res.driver.kind == "torque" else "F"   # a crank's torque, an actuator's force
+            records.append({"at": pivot, "torque": f"{lk.driver.link}: {sym} = {t:.4g} {res.driver.unit}"})
         ext = pose.arrays.extent()
         corner = (ext[0], ext[1] - 0.1 * _size(pose)) if ext else pivot
         records.append({"legend": corner, "text": f"{lk.id}: joint forces on the later-listed link, "

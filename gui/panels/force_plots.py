@@ -3,7 +3,8 @@
 Two rows below the kinematic ones, against the same input angle:
 
 - ``torque`` — the driving torque (N·m, counter-clockwise positive: what the motor applies to the
-  driver) and, when joints have friction, the driving torque with friction beside it;
+  driver; for a cylinder or a slider driven along its guide the driving force, N, positive
+  extending, labelled so) and, when joints have friction, the driving effort with friction beside it;
 - ``reaction`` — the selected joint's reaction (N): Fx, Fy and |F| of the force on each of its
   later-listed links (a prismatic joint: its normal force); for a selected link, |F| at each of
   its joints on that link.

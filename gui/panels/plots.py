@@ -59,16 +59,19 @@ class PlotData:
     #: the stacked plots (name, default y label), top to bottom, and the shared x-axis label
     rows: tuple[tuple[str, str], ...] = PLOTS
     x_label: str = "input angle (°)"
+    #: the unit of ``x``: "deg" (a crank's angle) or "mm" (an actuator's input); names the table's first column
+    x_unit: str = "deg"
     #: x of every animation frame (the cursor; a click goes to the nearest), when not ``x`` itself
     frame_x: np.ndarray | None = None
     #: the table "Export plot data as CSV" writes, when not the plotted columns
     make_table: Callable[[], Table] | None = None
 
     def table(self) -> Table:
-        """The plotted data as a table: ``input_deg`` then one column per curve (unit in the name)."""
+        """The plotted data as a table: ``input_deg`` (``input_mm`` for an actuator) then one
+        column per curve (unit in the name)."""
         if self.make_table is not None:
             return self.make_table()
-        cols = {"input_deg": self.x}
+        cols = {f"input_{self.x_unit}": self.x}
         for s in self.series:
             if s.x is not None:
                 continue
@@ -108,7 +111,12 @@ def plot_data(controller: SceneController) -> PlotData:
     if res is None or res.solution is None:
         return PlotData(f"{lk.id} is not solved: {res.error if res else 'no result'}")
     sol = res.solution
-    data = PlotData(f"{kind} {ident} of {lk.id}", np.degrees(sol.input), np.asarray(sol.valid, dtype=bool))
+    if sol.plan.input_unit == "mm":   # an actuator: its length (cylinder) or displacement (slider)
+        what = "cylinder length" if str(lk.driver.kind) == "cylinder" else "slider displacement"
+        data = PlotData(f"{kind} {ident} of {lk.id}", np.asarray(sol.input, dtype=float),
+                        np.asarray(sol.valid, dtype=bool), x_label=f"input: {what} (mm)", x_unit="mm")
+    else:
+        data = PlotData(f"{kind} {ident} of {lk.id}", np.degrees(sol.input), np.asarray(sol.valid, dtype=bool))
     S = data.series
     try:
         if kind == "joint":

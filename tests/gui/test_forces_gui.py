@@ -191,3 +191,38 @@ def test_geneva_crank_torque_in_plots_and_overlay(shell, qtbot):
     view.extras.actions["forces"].trigger()
     item = view.extras.overlays.items["forces"]
     qtbot.waitUntil(lambda: any("crank torque" in r.get("torque", "") for r in item.records), timeout=20000)
+
+
+def test_a_cylinder_driven_arm_plots_its_driving_force(shell, qtbot, tmp_path):
+    """The excavator arm (a cylinder with a cycloidal stroke) with masses: the plots show the
+    driving force (N, positive extending) where a crank's torque is, against the stroke in mm;
+    the overlay writes it at the cylinder's slide."""
+    import json
+    doc = json.loads(example_path("excavator_arm").read_text())
+    el = doc["elements"][0]
+    for link in el["links"]:
+        if link["id"] != el["ground"]:
+            link["mass"] = 40.0
+    el["gravity"] = [0.0, -9.81]
+    path = tmp_path / "arm.json"
+    path.write_text(json.dumps(doc))
+    parts = shell(path)
+    c = parts.controller
+    plots = parts.window.plots
+    c.set_selection([("arm", "joint", "C2")])
+    plots.refresh()
+    assert "torque" in plots.plots
+    res = c.workspace.forces("arm")
+    assert res.driver.kind == "force" and res.power.worst < 1e-13
+    assert np.array_equal(plots.curves["driver.force (barrel)"].yData, res.driver.values)
+    assert plots.data.labels["torque"] == "driving force (N)"
+    assert np.array_equal(plots.curves["C2.Fx"].yData, res.pins["C2"]["rod"][:, 0])
+    assert np.array_equal(plots.data.x, res.input) and plots.data.x_label == "input: cylinder length (mm)"
+    assert plots.data.table().columns[0] == "input_mm" and 850.0 <= res.input.min() < res.input.max() <= 1250.0
+    view = parts.window.canvas
+    view.extras.actions["forces"].trigger()
+    item = view.extras.overlays.items["forces"]
+    c.set_frame(30)
+    qtbot.waitUntil(lambda: any("torque" in r for r in item.records), timeout=20000)
+    text = next(r["torque"] for r in item.records if "torque" in r)
+    assert text == f"barrel: F = {res.driver.values[30]:.4g} N"
