@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -67,6 +67,19 @@ class _OutOfRange(Exception):
 
 def _rk4(k: ScalarKernel, a: float, s: float, th: float, h: float):
     """One RK4 step of (α, S5) over θ → θ + h; None if a stage leaves the working range."""
+    d = _rk4_increment(k, a, s, th, h)
+    return None if d is None else (a + d[0], s + d[1])
+
+
+def _two_sum(x: float, y: float) -> tuple[float, float]:
+    """x + y as a rounded sum and its exact rounding error (Knuth)."""
+    t = x + y
+    z = t - x
+    return t, (x - (t - z)) + (y - z)
+
+
+def _rk4_increment(k: ScalarKernel, a: float, s: float, th: float, h: float):
+    """The increments (Δα, ΔS5) of one RK4 step over θ → θ + h; None outside the working range."""
     r1 = k.rhs(a, th)
     if r1 is None:
         return None
@@ -81,8 +94,7 @@ def _rk4(k: ScalarKernel, a: float, s: float, th: float, h: float):
     if r4 is None:
         return None
     h6 = h / 6.0
-    return (a + h6 * (r1[0] + 2.0 * r2[0] + 2.0 * r3[0] + r4[0]),
-            s + h6 * (r1[1] + 2.0 * r2[1] + 2.0 * r3[1] + r4[1]))
+    return h6 * (r1[0] + 2.0 * r2[0] + 2.0 * r3[0] + r4[0]), h6 * (r1[1] + 2.0 * r2[1] + 2.0 * r3[1] + r4[1])
 
 
 @dataclass
@@ -94,6 +106,17 @@ class _March:
     s5: list
     error: float = 0.0
     evaluations: int = 0
+    #: running bounds of the global errors of α (rad) and S5 (mm) at each node (see :func:`_bound`)
+    ea: list = field(default_factory=lambda: [0.0])
+    es: list = field(default_factory=lambda: [0.0])
+    #: the part of ``ea`` due to rounding (no smaller step reduces it)
+    er: list = field(default_factory=lambda: [0.0])
+    #: growth Π max(|∂α_{k+1}/∂α_k|, 1) of α errors over the mesh
+    growth: float = 1.0
+    #: second pass: mm per rad of α error as the worst node sees it (0: first pass, no α control)
+    weight: float = 0.0
+    #: attempted steps allowed to this march (None: :data:`MAX_STEPS`)
+    limit: int | None = None
 
 
 def _march(k: ScalarKernel, m: _March, target: float, rate: float, h: float, hmin: float,
@@ -108,6 +131,7 @@ def _march(k: ScalarKernel, m: _March, target: float, rate: float, h: float, hmi
     can be taken) is covered by taking the state as it is (it changes by less than rounding).
     """
     th, a, s = m.theta[-1], m.alpha[-1], m.s5[-1]
+    a_lo = s_lo = 0.0   # compensated sums: α and S5 lose no bits to the many small increments
     floor = 4.0 * np.finfo(float).eps * max(k.ell, 1.0)  # round-off level of one step (mm)
     direction = 1.0 if target > th else -1.0
     t0 = time.perf_counter()
@@ -120,20 +144,26 @@ def _march(k: ScalarKernel, m: _March, target: float, rate: float, h: float, hmi
                 m.theta.append(float(target))
                 m.alpha.append(a)
                 m.s5.append(s)
+                m.ea.append(m.ea[-1])
+                m.es.append(m.es[-1])
+                m.er.append(m.er[-1])
                 break
             step = max(step, 4.0 * math.ulp(th), hmin)
         tries += 1
-        if tries > MAX_STEPS:
+        if tries > (MAX_STEPS if m.limit is None else min(m.limit, MAX_STEPS)):
             raise _Budget(th, step, tries - 1, time.perf_counter() - t0, "steps")
         if tries % 64 == 0 and time.perf_counter() - t0 > MAX_SECONDS:
             raise _Budget(th, step, tries, time.perf_counter() - t0, "time")
         last = step == abs(target - th)
-        hs = direction * step
+        nxt = float(target) if last else th + direction * step
+        hs = nxt - th   # the step the mesh records (exact: no drift of θ by its roundings)
         m.evaluations += 14
         k.reason = 0
         full = _rk4(k, a, s, th, hs)
-        half = _rk4(k, a, s, th, 0.5 * hs)
-        half = _rk4(k, half[0], half[1], th + 0.5 * hs, 0.5 * hs) if half is not None else None
+        d1 = _rk4_increment(k, a, s, th, 0.5 * hs)
+        d2 = _rk4_increment(k, a + d1[0], s + d1[1], th + 0.5 * hs, 0.5 * hs) if d1 is not None else None
+        inc = (d1[0] + d2[0], d1[1] + d2[1]) if d2 is not None else None
+        half = (a + inc[0], s + inc[1]) if inc is not None else None
         cf = k.contacts(full[0], full[1], th + hs) if full is not None else None
         ch = k.contacts(half[0], half[1], th + hs) if half is not None else None
         if cf is None or ch is None:
@@ -143,17 +173,94 @@ def _march(k: ScalarKernel, m: _March, target: float, rate: float, h: float, hmi
             continue
         err = max(math.hypot(cf[0] - ch[0], cf[1] - ch[1]), math.hypot(cf[2] - ch[2], cf[3] - ch[3])) / 15.0
         allowed = max(rate * step, floor)
+        if m.weight:   # second pass: α's local error as the most sensitive node will see it
+            rnd = 8.0 * m.weight * math.ulp(inc[0])
+            seen = 2.0 * m.weight * abs(full[0] - half[0]) / 15.0
+            if seen > max(rate * step, rnd) and err <= allowed:
+                err, allowed = seen, max(rate * step, rnd)
         if err > allowed and step > max(hmin, accept_below):
             h = step * max(0.1, 0.9 * (allowed / err) ** 0.2)
             continue
-        a, s = half
-        th = float(target) if last else th + hs
+        # the new state, summed with compensation
+        a_new, c = _two_sum(a, inc[0] + a_lo)
+        a_new, a_lo = _two_sum(a_new, c)
+        s_new, c = _two_sum(s, inc[1] + s_lo)
+        s_new, s_lo = _two_sum(s_new, c)
+        # local errors of α (rad) and S5 (mm): Richardson, plus the rounding of the increment and
+        # of the compensation; an α error at the step's start grows over it by 1 + h·∂f/∂α and
+        # feeds S5 by h·∂g/∂α
+        rnd = 2.0 * math.ulp(inc[0]) + math.ulp(a_lo)
+        ea = abs(full[0] - half[0]) / 15.0 + rnd
+        es = abs(full[1] - half[1]) / 15.0 + 2.0 * math.ulp(inc[1]) + math.ulp(s_lo)
+        fa, ga = _rate_slopes(k, a_new, th + hs, direction)
+        m.evaluations += 4
+        grow = abs(1.0 + hs * fa)
+        m.growth *= max(grow, 1.0)
+        m.ea.append(grow * m.ea[-1] + ea)
+        m.er.append(grow * m.er[-1] + rnd)
+        m.es.append(m.es[-1] + abs(hs * ga) * m.ea[-2] + es)
+        a, s = a_new, s_new
+        th = nxt
         m.error += err
         m.theta.append(th)
         m.alpha.append(a)
         m.s5.append(s)
         h = step * (4.0 if err == 0.0 else min(4.0, 0.9 * (allowed / err) ** 0.2))
     return h
+
+
+def _rate_slopes(k: ScalarKernel, a: float, th: float, direction: float) -> tuple[float, float]:
+    """(∂(dα/dθ)/∂α, ∂(dS5/dθ)/∂α) at (α, θ) by central differences, the step shrunk (down to
+    one-sided, away from the range end ahead) where α ± ε leaves the working range."""
+    eps = 1e-7 * max(1.0, abs(a))
+    for _ in range(6):
+        up, dn = k.rhs(a + eps, th), k.rhs(a - eps, th)
+        if up is not None and dn is not None:
+            return (up[0] - dn[0]) / (2.0 * eps), (up[1] - dn[1]) / (2.0 * eps)
+        mid = k.rhs(a, th)
+        one = up if up is not None else dn
+        if one is not None and mid is not None:
+            sg = eps if up is not None else -eps
+            return (one[0] - mid[0]) / sg, (one[1] - mid[1]) / sg
+        eps *= 0.01
+    return 0.0, 0.0
+
+
+def _contact_slopes(k: ScalarKernel, a: float, s: float, th: float) -> tuple[float, float]:
+    """(|∂P/∂α|, |∂Q/∂α|) in mm/rad at a node, by differences as in :func:`_rate_slopes`."""
+    eps = 1e-7 * max(1.0, abs(a))
+    c0 = k.contacts(a, s, th)
+    for _ in range(6):
+        up, dn = k.contacts(a + eps, s, th), k.contacts(a - eps, s, th)
+        if up is not None and dn is not None:
+            d = [(x - y) / (2.0 * eps) for x, y in zip(up, dn)]
+            return math.hypot(d[0], d[1]), math.hypot(d[2], d[3])
+        one = up if up is not None else dn
+        if one is not None and c0 is not None:
+            sg = eps if up is not None else -eps
+            d = [(x - y) / sg for x, y in zip(one, c0)]
+            return math.hypot(d[0], d[1]), math.hypot(d[2], d[3])
+        eps *= 0.01
+    return math.inf, math.inf
+
+
+def _bound(k: ScalarKernel, m: _March) -> tuple[float, float, float]:
+    """(bound on the error of P and Q over the mesh (mm), the part of it due to rounding, the
+    worst contact sensitivity |∂(P, Q)/∂α| (mm/rad)).
+
+    P depends on the pose (α, θ) only and θ is exact, so P's error is |∂P/∂α|·δα; Q's is
+    |∂Q/∂α|·δα + δS5. δα and δS5 are bounded node by node by the local (Richardson) errors and
+    roundings, each carried along by the growth of α errors over the following steps. Near an end
+    of the working range |∂P/∂α| grows like 1/√(distance): α errors made early are seen there
+    magnified, which the sum of the local contact errors missed (issue 13, item 11)."""
+    worst, rounding, sens = 0.0, 0.0, 0.0
+    for th, a, s, ea, es, er in zip(m.theta, m.alpha, m.s5, m.ea, m.es, m.er):
+        sp, sq = _contact_slopes(k, a, s, th)
+        sens = max(sens, sp, sq)
+        here = max(sp * ea, sq * ea + es)
+        if here > worst:
+            worst, rounding = here, max(sp, sq) * er
+    return worst, rounding, sens
 
 
 @dataclass(frozen=True)
@@ -238,7 +345,8 @@ def _pair_d_end(geom: LeverGeometry, k: ScalarKernel, back: tuple[float, float],
     wx = geom.c1[0] - geom.f[0] + geom.ell * ex  # c1 − G in the lever frame, G = f − ℓ e(ψ)
     wy = geom.c1[1] - geom.f[1] + geom.ell * ey
     b = wx * ex + wy * ey
-    d1 = np.maximum(b * b - (wx * wx + wy * wy - geom.R1 ** 2), 0.0)
+    c = wx * ey - wy * ex
+    d1 = np.maximum((geom.R1 - c) * (geom.R1 + c), 0.0)
     g = b + geom.branch * np.sqrt(d1)
     end = th_b + geom.ell * float(np.sum(0.5 * _END_W * 2.0 * delta * t / g))
     return end if abs(end - found) <= 1e-5 else found
@@ -261,7 +369,8 @@ def rates(geom: LeverGeometry, alpha: np.ndarray, theta: np.ndarray) -> tuple[np
     f = np.asarray(geom.f)
     w = F + rot(theta, np.asarray(geom.c1) - f) - np.asarray(geom.G)
     b = w[:, 0] * ca + w[:, 1] * sa
-    d1 = b * b - (w[:, 0] ** 2 + w[:, 1] ** 2 - geom.R1 ** 2)
+    c = w[:, 0] * sa - w[:, 1] * ca
+    d1 = (geom.R1 - c) * (geom.R1 + c)   # = b² − (|w|² − R1²), without the cancellation
     g = contact_distance(geom, alpha, theta, b, d1)
     z = np.asarray(geom.G) + g[:, None] * np.stack([ca, sa], axis=-1) - (F + rot(theta, np.asarray(geom.c2) - f))
     n = np.asarray(geom.n)
@@ -276,8 +385,8 @@ def rates(geom: LeverGeometry, alpha: np.ndarray, theta: np.ndarray) -> tuple[np
 class ExactPath:
     """The integrated exact motion: the adaptive mesh (θ, α, S5) in integration order (rad, rad, mm).
 
-    ``error_mm`` is the sum of the local error estimates of P and Q (mm); ``evaluations`` counts
-    right-hand-side calls of the integration.
+    ``error_mm`` bounds the error of P and Q over the mesh (mm; see :func:`integrate`);
+    ``evaluations`` counts right-hand-side calls of the integration.
     """
 
     geom: LeverGeometry
@@ -286,6 +395,9 @@ class ExactPath:
     S5: np.ndarray
     error_mm: float
     evaluations: int
+    #: bounds on the errors of α (rad) and S5 (mm) at the last node (see :func:`integrate`)
+    alpha_error: float = 0.0
+    s5_error: float = 0.0
 
     def base_index(self, theta_q: np.ndarray) -> np.ndarray:
         """Index of the mesh node each θ (M,) is stepped from (the preceding node, clipped)."""
@@ -320,10 +432,15 @@ class ExactPath:
 
 
 def integrate(geom: LeverGeometry, end: float, tol: float, start: tuple[float, float, float] | None = None,
-              max_step: float = 0.05) -> ExactPath:
+              max_step: float = 0.05, carried: tuple[float, float] = (0.0, 0.0)) -> ExactPath:
     """Integrate the exact ODE from ``start`` = (θ, α, S5) (default the drawn pose (0, α0, 0)) to θ = ``end``.
 
-    ``tol``: bound on the summed local error of P and Q over the span (mm); ``max_step`` (rad).
+    ``tol``: bound on the error of P and Q over the span (mm); ``max_step`` (rad); ``carried``:
+    bounds on the errors of the start's α (rad) and S5 (mm) (from a lead-in). The mesh is chosen
+    by the local contact errors; when the resulting bound (:func:`_bound`) exceeds ``tol`` — the
+    α errors seen magnified near a working-range end — the span is integrated once more with α's
+    local errors weighted by the worst sensitivity. The bound is ``error_mm``; it exceeds ``tol``
+    only where rounding (or the budget) does not allow better.
     Raises :class:`_OutOfRange` (internal) when the span leaves the working range, and
     :class:`GeometryError` naming the inputs to change when the step or time budget runs out.
     """
@@ -334,19 +451,40 @@ def integrate(geom: LeverGeometry, end: float, tol: float, start: tuple[float, f
         raise GeometryError("empty integration span")
     if k.rhs(a, th) is None:
         raise _OutOfRange(th, a, s, k.reason)
-    m = _March([th], [a], [s])
     h0 = min(max_step, 0.01 * span) or span   # (0.01·span underflows for a subnormal span)
-    try:
-        _march(k, m, end, tol / span, h0, 1e-13 * max(1.0, span), hmax=max_step)
-    except _Budget as b:
-        rng = working_range(geom)   # steps that collapse near a range end the stroke passes
-        if not rng.contains(end):
-            limit, why = (rng.lower, rng.lower_reason) if end < rng.lower else (rng.upper, rng.upper_reason)
-            raise GeometryError(f"θ = {end:g} rad is beyond the working range: after θ ≈ {limit:.6f} rad {why}. "
-                                f"Reachable range from the drawn pose: {rng.describe()}; change the "
-                                f"stroke (`stroke.from`, `stroke.to`)") from None
-        raise GeometryError(_budget_message(geom, th, end, tol, b)) from None
-    return ExactPath(geom, np.array(m.theta), np.array(m.alpha), np.array(m.s5), m.error, m.evaluations)
+    # first pass: steps by the local contact error; a second, tighter one only when the bound over
+    # the span misses the tolerance by what smaller steps can remove (not the rounding part)
+    best = None
+    evaluations = 0
+    rate = tol / span
+    weight, limit = 0.0, None
+    for attempt in range(2):
+        m = _March([th], [a], [s], ea=[carried[0]], es=[carried[1]], weight=weight, limit=limit)
+        try:
+            _march(k, m, end, rate, h0, 1e-13 * max(1.0, span), hmax=max_step)
+        except _Budget as b:
+            if best is not None:   # the tighter pass is out of budget: keep the first, bound stated
+                break
+            rng = working_range(geom)   # steps that collapse near a range end the stroke passes
+            if not rng.contains(end):
+                limit, why = (rng.lower, rng.lower_reason) if end < rng.lower else (rng.upper, rng.upper_reason)
+                raise GeometryError(f"θ = {end:g} rad is beyond the working range: after θ ≈ {limit:.6f} rad {why}. "
+                                    f"Reachable range from the drawn pose: {rng.describe()}; change the "
+                                    f"stroke (`stroke.from`, `stroke.to`)") from None
+            raise GeometryError(_budget_message(geom, th, end, tol, b)) from None
+        evaluations += m.evaluations
+        bound, rounding, sens = _bound(k, m)
+        if best is None or bound < best[1]:
+            best = (m, bound)
+        trunc = bound - rounding   # what smaller steps remove (rounding is counted in full: a bound)
+        if bound <= tol or trunc <= 0.25 * tol or attempt or not math.isfinite(sens):
+            break
+        # again, α's local errors weighted by the worst sensitivity and growth, within the step
+        # budget (else the first pass stands, with its bound)
+        weight, limit = sens * m.growth, None
+    m, bound = best
+    return ExactPath(geom, np.array(m.theta), np.array(m.alpha), np.array(m.s5), bound, evaluations,
+                     m.ea[-1], m.es[-1])
 
 
 def _budget_message(geom: LeverGeometry, start: float, end: float, tol: float, b: _Budget) -> str:
@@ -392,21 +530,35 @@ def exact_path(geom: LeverGeometry, start: float, end: float, tol: float) -> Exa
     """The exact motion over the stroke θ ∈ start → end (rad), integrated to ``tol`` mm.
 
     When the stroke does not start at the drawn pose, θ = 0 → ``start`` is integrated first (to the
-    same tolerance) and only its end state kept. Raises :class:`GeometryError` with the reachable
+    same tolerance) and only its end state kept, with the bounds of its errors, which the stroke
+    carries on (when they make the stroke's bound exceed twice the tolerance — magnified near a
+    range end — the lead-in is integrated again, tighter); ``error_mm`` bounds the errors over both. Raises :class:`GeometryError` with the reachable
     range when the stroke leaves the working range.
     """
     direction = 1.0 if start > 0.0 else -1.0  # of the integration under way
     try:
         origin = None
         lead = None
+        carried = (0.0, 0.0)
         if start != 0.0:
             lead = integrate(geom, start, tol)
             origin = (start, float(lead.alpha[-1]), float(lead.S5[-1]))
+            carried = (lead.alpha_error, lead.s5_error)
         direction = 1.0 if end > start else -1.0
-        path = integrate(geom, end, tol, start=origin)
-        if lead is not None:
-            path.error_mm += lead.error_mm
+        path = integrate(geom, end, tol, start=origin, carried=carried)
+        if lead is not None and path.error_mm > 2.0 * tol:
+            # the lead-in's errors, magnified over the stroke (near a range end), are what miss:
+            # integrate the lead-in again, to the tolerance the stroke needs of it
+            without = integrate(geom, end, tol, start=origin)
+            if path.error_mm > 2.0 * without.error_mm:
+                spent = lead.evaluations + path.evaluations + without.evaluations
+                lead = integrate(geom, start, tol * max(without.error_mm, 0.1 * tol) / path.error_mm)
+                origin = (start, float(lead.alpha[-1]), float(lead.S5[-1]))
+                path = integrate(geom, end, tol, start=origin, carried=(lead.alpha_error, lead.s5_error))
+                path.evaluations += spent
+        if lead is not None:   # the bound covers all that was integrated, the lead-in too
             path.evaluations += lead.evaluations
+            path.error_mm = max(path.error_mm, lead.error_mm)
     except _OutOfRange as stop:
         raise GeometryError(_beyond_message(geom, start, end, stop, direction)) from None
     return path

@@ -81,7 +81,8 @@ def _pair_d_valid(geom: LeverGeometry, psi: float, kappa: float) -> bool:
     wx = geom.c1[0] - geom.f[0] + geom.ell * ex  # c1 − G with G = f − ℓ e(ψ)
     wy = geom.c1[1] - geom.f[1] + geom.ell * ey
     b = wx * ex + wy * ey
-    d1 = b * b - (wx * wx + wy * wy - geom.R1 ** 2)
+    c = wx * ey - wy * ex  # distance of the circle's centre from the rocker line: D1 = R1² − c²
+    d1 = (geom.R1 - c) * (geom.R1 + c)
     if not d1 > 0.0:
         return False
     g = b + geom.branch * math.sqrt(d1)
@@ -220,7 +221,8 @@ def pose_state(geom: LeverGeometry, alpha: FloatArray, theta: FloatArray) -> Pos
     C1 = F + rot(theta, np.asarray(geom.c1) - f)
     w = C1 - G
     b = np.einsum("ij,ij->i", w, e)
-    D1 = b * b - (np.einsum("ij,ij->i", w, w) - geom.R1 ** 2)
+    c = w[:, 0] * e[:, 1] - w[:, 1] * e[:, 0]
+    D1 = (geom.R1 - c) * (geom.R1 + c)   # = b² − (|w|² − R1²), without the cancellation
     g = contact_distance(geom, alpha, theta, b, D1)
     P = G + g[:, None] * e
     rate = 1.0 - g / geom.ell
@@ -279,6 +281,7 @@ class ScalarKernel:
         self.v1 = (geom.c1[0] - geom.f[0], geom.c1[1] - geom.f[1])
         self.v2 = (geom.c2[0] - geom.f[0], geom.c2[1] - geom.f[1])
         self.r1sq = geom.R1 ** 2
+        self.r1 = geom.R1
         self.r2sq = geom.R2 ** 2
         self.branch = float(geom.branch)
         self.side = float(geom.side)
@@ -298,7 +301,10 @@ class ScalarKernel:
         wx = fx + ct * self.v1[0] - st * self.v1[1] - self.gx
         wy = fy + st * self.v1[0] + ct * self.v1[1] - self.gy
         b = wx * ca + wy * sa
-        d1 = b * b - (wx * wx + wy * wy - self.r1sq)
+        c = wx * sa - wy * ca
+        # R1² − c² (= b² − (|w|² − R1²)), factored: no cancellation at the tangent, where the
+        # expanded form loses eps·b²/D1 of D1 and its square root drives the ODE (issue 13, item 11)
+        d1 = (self.r1 - c) * (self.r1 + c)
         # within the limits the line cuts the circle: a non-positive value is round-off at a tangent
         g = b + self.branch * math.sqrt(d1) if d1 > 0.0 else b
         if not g > self.kappa:  # the contact is (within κ) the pivot

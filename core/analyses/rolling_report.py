@@ -43,7 +43,11 @@ def summary(res: "RollingSynthesis") -> str:
     if res.method == "exact":
         lines.append(f"time: {res.time_s * 1e3:.2f} ms (integration in {len(res.path.theta) - 1} adaptive steps, "
                      f"{res.path.evaluations} evaluations, working range included); integration error "
-                     f"estimate {res.error_mm:.2e} mm (tolerance {el.tolerance:.1e} mm)")
+                     f"bound {res.error_mm:.2e} mm (tolerance {el.tolerance:.1e} mm)")
+        if res.error_mm > el.tolerance:
+            lines.append(f"note: the tolerance is not met ({res.error_mm:.2e} mm): close to the working-range end "
+                         f"the contact moves ~1/√(distance) faster than the lever, and rounding in α is magnified "
+                         f"as much; end the stroke further from it ({margin:.2e} rad now) or raise `tolerance`")
     else:
         lines.append(f"time: {res.time_s * 1e3:.2f} ms for the construction (+ {res.time_exact_s * 1e3:.2f} ms "
                      "for the exact motion used for the stroke's lever arc, the drive and the references)")

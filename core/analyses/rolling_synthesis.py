@@ -62,8 +62,8 @@ class RollingSynthesis:
     ``path`` is the exact motion over the stroke (for every method: the reference, the drive and
     the DXF curve of the exact method). ``time_s`` is the synthesis time of the method (s; for the
     exact method including the working-range search), ``time_exact_s`` that of the exact motion
-    and working range, ``error_mm`` the exact method's integration error estimate (sum of local
-    errors of P and Q; NaN for the constructions).
+    and working range, ``error_mm`` the exact method's bound on the integration error of P and Q
+    (mm; see :func:`~.rolling_exact.integrate`; NaN for the constructions).
     """
 
     element: RollingLever

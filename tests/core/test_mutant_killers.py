@@ -249,13 +249,6 @@ def test_alpha_and_s5_up_to_the_upper_end_against_the_quadrature(press_range, ga
     assert res.error_mm < 2 * el.tolerance
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "finding: near an end of the working range the error estimate (sum of local errors of P "
-    "and Q) is not a bound and the stated tolerance is not met: P moves ~1/sqrt(distance to the "
-    "end) times faster than alpha, so alpha errors made earlier (at lower sensitivity) are "
-    "amplified at the end. Measured at tol 1e-10: stroke 0 -> lower + 1e-2: actual 1.2e-10, "
-    "estimate 6.6e-11; 0 -> upper - 1e-4: actual 1.35e-10, estimate 7.7e-11 (alpha itself is "
-    "right to 2e-13 rad)"))
 @pytest.mark.parametrize("which", ["lower", "upper"])
 def test_error_estimate_bounds_the_error_close_to_either_end(press_range, which):
     end = press_range.lower + 1e-2 if which == "lower" else press_range.upper - 1e-4
