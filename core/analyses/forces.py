@@ -347,12 +347,9 @@ def linkage_forces(plan: Plan, sol: Solution) -> ForceResult:
         F, M = ks.applied()
         p = ks.run(F, M)
         effort = _arr(unit * p.effort, n)
-        check = effort
-        for _j, _on, _by, f in p.pairs:   # a NaN or inf anywhere spoils the sum
-            check = check + f
-        for _on, f, _q, c in p.slides.values():
-            check = check + f + c
-        valid = sol.valid & np.isfinite(check)
+        # every reaction a group finds is passed on to its known links and so, group by group,
+        # to the frame (and the driver): a NaN or inf anywhere reaches these sums
+        valid = sol.valid & np.isfinite(effort + p.frame_moment) & np.isfinite(p.frame_force)
         all_valid = bool(valid.all())
         if not all_valid:
             effort = np.where(valid, effort, np.nan)

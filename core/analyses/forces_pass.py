@@ -16,6 +16,7 @@ terms are left to the lazily computed power balance.
 from __future__ import annotations
 
 import math
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -36,6 +37,20 @@ def _c(xy) -> complex:
 def _zero(x) -> bool:
     """``x`` is a scalar zero (not an array): it need not enter an array operation."""
     return not isinstance(x, np.ndarray) and x == 0
+
+
+def _fz(x):
+    """A float array as complex (a copy, cheap), a scalar as is: numpy's mixed float × complex
+    array products cast in small buffers and cost three to four complex products."""
+    return x.astype(np.complex128) if isinstance(x, np.ndarray) and x.dtype != np.complex128 else x
+
+
+def _times(a, inv, z):
+    """a·inv·z for float a (array or scalar; a scalar zero gives 0j), float inv and complex z,
+    with the float factor cast to complex once (see :func:`_fz`)."""
+    if _zero(a):
+        return 0j
+    return _fz(a * inv) * z
 
 
 def _add(a, b):
@@ -61,6 +76,73 @@ class Pass:
     frame_moment: object
 
 
+class _Static:
+    """What the kinetostatics of a plan needs that no sample changes, found once per plan: the
+    drawn joints and their links, each massive link's centre offset d (mm from its anchor),
+    −m (kg·m/mm... as ``mk`` = −m·1e-3) and the coefficient of α in its inertia moment, the
+    constant loads summed per link (force N; Σ conj(p0 − a0)·f N·mm; torques N·mm), the frame's
+    constant loads, and the springs and dampers."""
+
+    def __init__(self, plan: Plan, anchors: dict[str, complex]) -> None:
+        lk = plan.linkage
+        self.at = at = {j.id: _c(j.at) for j in lk.joints}
+        self.carriers = {j.id: lk.links_of(j.id) for j in lk.joints}
+        ground = lk.ground
+        pivot = at[lk.driver.pivot]
+        g = _c(lk.gravity) if lk.gravity is not None else 0j
+        self.F0: dict[str, object] = {k: 0j for k in lk.link_ids}
+        self.M0: dict[str, object] = {k: 0.0 for k in lk.link_ids}
+        self.wconst: dict[str, complex] = {}
+        self.masses: list[tuple] = []
+        for m in lk.masses:
+            k = m.link
+            if k == ground or (m.mass == 0.0 and not m.inertia):
+                continue
+            pts = [at[j] for j in lk.link(k).joints]
+            c0 = _c(m.com) if m.com is not None else sum(pts) / len(pts)
+            span = max((abs(p - q) for p in pts for q in pts), default=0.0)
+            inertia = (m.inertia if m.inertia is not None else default_inertia(m.mass, span)) / MM  # kg·m·mm
+            d = c0 - anchors[k]
+            mk = -m.mass * MM
+            self.masses.append((k, d, mk, mk * abs(d) ** 2 - inertia))
+            if g and m.mass:
+                self.F0[k] = self.F0[k] + m.mass * g
+                self.wconst[k] = self.wconst.get(k, 0j) + d.conjugate() * (m.mass * g)
+        self.springs: list[tuple] = []
+        for ld in lk.loads:
+            if isinstance(ld, PointForce):
+                f, k, p0 = _c(ld.force), ld.link, _c(ld.at)
+                self.F0[k] = self.F0[k] + f
+                if k == ground:
+                    self.M0[k] = self.M0[k] + ((p0 - pivot).conjugate() * f).imag
+                else:
+                    self.wconst[k] = self.wconst.get(k, 0j) + (p0 - anchors[k]).conjugate() * f
+            elif isinstance(ld, Torque):
+                self.M0[ld.link] = self.M0[ld.link] + ld.torque / MM
+            elif isinstance(ld, (Spring, Damper)):
+                (a, pa0), (b, pb0) = ((x.link, _c(x.at)) for x in ld.ends)
+                coef = (ld.stiffness, ld.stiffness * ld.rest_length) if isinstance(ld, Spring) else (ld.damping,)
+                self.springs.append((a, pa0, b, pb0, coef))
+        self.wconst = {k: w for k, w in self.wconst.items() if w != 0}
+
+
+#: the static data of recent plans, by id (with a weak reference that proves the id still names
+#: the same plan)
+_STATIC: dict[int, tuple] = {}
+_STATIC_MAX = 32
+
+
+def _static(plan: Plan, st: dict[str, LinkState]) -> _Static:
+    hit = _STATIC.get(id(plan))
+    if hit is not None and hit[0]() is plan:
+        return hit[1]
+    data = _Static(plan, {k: s.a0 for k, s in st.items()})
+    if len(_STATIC) >= _STATIC_MAX:
+        _STATIC.pop(next(iter(_STATIC)))
+    _STATIC[id(plan)] = (weakref.ref(plan), data)
+    return data
+
+
 class Kinetostatics:
     """The loads and reactions of ``plan``'s linkage over the samples of ``sol`` (order 2)."""
 
@@ -68,9 +150,10 @@ class Kinetostatics:
         self.plan, self.sol = plan, sol
         self.lk = lk = plan.linkage
         self.n = len(sol)
-        self.at = {j.id: _c(j.at) for j in lk.joints}
         self.ground = lk.ground
         self.st: dict[str, LinkState] = {k: sol.link_state(k) for k in lk.link_ids}
+        self.static = _static(plan, self.st)
+        self.at = self.static.at
         drv = lk.driver
         self.kind = str(getattr(drv, "kind", "crank"))
         #: the frame's reference point: the drawn position of the driver's joint (crank pivot,
@@ -79,6 +162,7 @@ class Kinetostatics:
         self._arm: dict[tuple[str, complex], object] = {}
         self._carm: dict[tuple[str, complex], object] = {}
         self._normal: dict[tuple[str, str], object] = {}
+        self._crot: dict[str, object] = {}
         #: a cylinder: (barrel, rod, end pivot M, end pivot H, slide joint, mode ±1, offset c mm)
         self.cyl: tuple | None = None
         if self.kind == "cylinder":
@@ -133,83 +217,82 @@ class Kinetostatics:
         if k == self.ground:
             return 0j
         st = self.st[k]
-        return _add(st.vA, 1j * st.omega * arm)
+        if _zero(arm):
+            return st.vA
+        return _add(st.vA, _fz(st.omega) * (1j * arm))
 
     # -- applied loads ----------------------------------------------------------------------
+    def crot(self, k: str):
+        """conj(rot) of link ``k``: cross(rot·w, f) = Im(crot·conj(w)·f) for drawn offsets w."""
+        v = self._crot.get(k)
+        if v is None:
+            v = self._crot[k] = np.conjugate(self.st[k].rot)
+        return v
+
     def applied(self) -> tuple[dict, dict]:
         """Per link the resultant of gravity, inertia and the applied loads: force (complex N)
-        and moment about the link's reference (N·mm). Fills :attr:`inertia`."""
-        lk = self.lk
-        F: dict[str, object] = {k: 0j for k in lk.link_ids}
-        M: dict[str, object] = {k: 0.0 for k in lk.link_ids}
-        g = _c(lk.gravity) if lk.gravity is not None else 0j
-        for m in lk.masses:
-            k = m.link
-            if k == self.ground or (m.mass == 0.0 and not m.inertia):
-                continue
+        and moment about the link's reference (N·mm). Fills :attr:`inertia`.
+
+        Constant forces (point forces, gravity) on a link are summed once per plan, force and
+        moment alike (a moment about the reference is Im(conj(rot)·W) with W = Σ conj(p0 − a0)·f
+        a constant), so each link costs a few array operations however many loads it carries."""
+        S = self.static
+        F, M = dict(S.F0), dict(S.M0)
+        for k, w in S.wconst.items():
+            M[k] = _add(M[k], (self.crot(k) * w).imag)
+        n = self.n
+        for k, d, mk, alpha_coef in S.masses:
             st = self.st[k]
-            pts = [self.at[j] for j in lk.link(k).joints]
-            c0 = _c(m.com) if m.com is not None else sum(pts) / len(pts)
-            span = max((abs(p - q) for p in pts for q in pts), default=0.0)
-            inertia = (m.inertia if m.inertia is not None else default_inertia(m.mass, span)) / MM  # kg·m·mm
-            d = c0 - st.a0
-            mk = -m.mass * MM
-            # the moment of −m·a_c about the anchor: cross(r, a_c) = cross(r, a_A) + α·|r|²
-            m_in = 0.0 if _zero(st.alpha) else (mk * abs(d) ** 2 - inertia) * st.alpha
+            # −m·a_c = mk·(a_A + (iα − ω²)·r), r = rot·d; its moment about the anchor is
+            # mk·cross(r, a_A) + mk·α·|r|², and the link's own −I·α
+            al = st.alpha
+            m_in = 0.0 if _zero(al) else alpha_coef * al
+            q = 0j if _zero(st.aA) else mk * st.aA
+            f_in = 0j
             if d != 0:
-                r = st.rot * d                                      # centre of mass from the anchor
-                coef = 1j * st.alpha - st.omega * st.omega
-                if _zero(st.aA):                                    # a crank: a_c = coef·r
-                    f_in = (mk * coef) * r
+                w = st.omega
+                if isinstance(w, np.ndarray) or isinstance(al, np.ndarray):
+                    kc = np.empty(n, dtype=np.complex128)      # mk·(iα − ω²), built in place
+                    np.multiply(w * w, -mk, out=kc.real)
+                    np.multiply(al, mk, out=kc.imag)
                 else:
-                    f_in = mk * (st.aA + coef * r)
-                rc = r.conjugate()
-                if not _zero(st.aA):
-                    m_in = _add(m_in, mk * (rc * st.aA).imag)
-            else:
-                rc = 0j
-                f_in = 0j if _zero(st.aA) else mk * st.aA
+                    kc = mk * complex(-w * w, al)
+                f_in = kc * st.rot
+                f_in *= d
+                if not _zero(q):
+                    t = self.crot(k) * q
+                    t *= d.conjugate()
+                    m_in = _add(m_in, t.imag)
+            f_in = _add(q, f_in)
             self.inertia[k] = (f_in, m_in)
             F[k] = _add(F[k], f_in)
             M[k] = _add(M[k], m_in)
-            if g:
-                F[k] = F[k] + m.mass * g
-                if d != 0:
-                    M[k] = _add(M[k], (rc * (m.mass * g)).imag)
-        for ld in lk.loads:
-            if isinstance(ld, PointForce):
-                f = _c(ld.force)
-                F[ld.link] = F[ld.link] + f
-                if not _zero(self.arm(ld.link, _c(ld.at))):
-                    M[ld.link] = _add(M[ld.link], (self.carm(ld.link, _c(ld.at)) * f).imag)
-            elif isinstance(ld, Torque):
-                M[ld.link] = M[ld.link] + ld.torque / MM
-            elif isinstance(ld, (Spring, Damper)):
-                tension, e, _rate = self.tension(ld)
-                fa = tension * e
-                (a, pa0), (b, pb0) = ((x.link, _c(x.at)) for x in ld.ends)
-                F[a] = _add(F[a], fa)
-                F[b] = _sub(F[b], fa)
-                if not _zero(self.arm(a, pa0)):
-                    M[a] = _add(M[a], (self.carm(a, pa0) * fa).imag)
-                if not _zero(self.arm(b, pb0)):
-                    M[b] = _sub(M[b], (self.carm(b, pb0) * fa).imag)
+        for a, pa0, b, pb0, coef in S.springs:
+            fa = self._spring(a, pa0, b, pb0, coef)
+            F[a] = _add(F[a], fa)
+            F[b] = _sub(F[b], fa)
+            if not _zero(self.arm(a, pa0)):
+                M[a] = _add(M[a], (self.carm(a, pa0) * fa).imag)
+            if not _zero(self.arm(b, pb0)):
+                M[b] = _sub(M[b], (self.carm(b, pb0) * fa).imag)
         return F, M
 
-    def tension(self, ld: Spring | Damper, rate: bool = False):
-        """(tension N, unit vector from end 0 to end 1, dℓ/dt mm/s or None) of a spring/damper."""
-        (a, pa0), (b, pb0) = ((x.link, _c(x.at)) for x in ld.ends)
-        ra, rb = self.arm(a, pa0), self.arm(b, pb0)
+    def _spring(self, a: str, pa0: complex, b: str, pb0: complex, coef: tuple):
+        """The force (N, complex) on end 0 (link ``a``, drawn ``pa0``) of a spring (``coef`` =
+        (k N/mm, k·ℓ0 N)) or a damper (``coef`` = (c N·s/mm,)) whose end 1 is on ``b`` at ``pb0``:
+        tension/ℓ times the vector d from end 0 to end 1. Float factors are cast to complex once
+        before a product with a complex array (numpy's mixed products cost three to four complex
+        ones)."""
         d = _sub(self.point(b, pb0), self.point(a, pa0))
-        length = np.abs(d)
-        e = d / length
-        speed = None
-        if rate or isinstance(ld, Damper):
-            dv = _sub(self.velocity(b, rb), self.velocity(a, ra))
-            speed = (dv * np.conjugate(e)).real
-        if isinstance(ld, Spring):
-            return ld.stiffness * (length - ld.rest_length), e, speed
-        return ld.damping * speed, e, speed
+        if len(coef) == 2:
+            t = coef[0] - coef[1] / np.abs(d)                              # k·(ℓ − ℓ0)/ℓ
+        else:
+            dv = _sub(self.velocity(b, self.arm(b, pb0)), self.velocity(a, self.arm(a, pa0)))
+            cd = np.conjugate(d)
+            t = (dv * cd).real
+            t *= coef[0]
+            t /= (d * cd).real                                             # c·(dℓ/dt)/ℓ
+        return _fz(t) * d
 
     # -- the pass ---------------------------------------------------------------------------
     def run(self, F0: dict, M0: dict) -> Pass:
@@ -259,7 +342,8 @@ class Kinetostatics:
                 m0, h0, l0 = at[g.outer_i], at[g.outer_j], at[g.inner]
                 ri, rj = _sub(arm(i, m0), arm(i, l0)), _sub(arm(j, h0), arm(j, l0))
                 b = _sub(about(j, l0), cross(rj, tot))
-                X = (about(i, l0) * rj + b * ri) / (-cross(ri, rj))     # on i at M from known_i
+                inv = 1.0 / cross(rj, ri)                             # −1/cross(ri, rj)
+                X = _add(_times(about(i, l0), inv, rj), _times(b, inv, ri))   # on i at M from known_i
                 Z = _sub(-tot, X) if not _zero(tot) else -X
                 pairs += [(g.outer_i, i, g.known_i, X), (g.outer_j, j, g.known_j, Z),
                           (g.inner, j, i, _add(X, Fi))]
@@ -269,7 +353,7 @@ class Kinetostatics:
                 m0, l0 = at[g.outer_i], at[g.inner]
                 n = self.normal(j, g.outer_j)
                 ri = _sub(arm(i, m0), arm(i, l0))
-                f = _sub(about(i, l0), cross(ri, tot)) / cross(ri, n) * n
+                f = _times(_sub(about(i, l0), cross(ri, tot)), 1.0 / cross(ri, n), n)
                 X = _sub(-f, tot)
                 pairs += [(g.outer_i, i, g.known_i, X), (g.inner, j, i, _add(X, Fi))]
                 q = self.point(i, l0)
@@ -282,7 +366,7 @@ class Kinetostatics:
                 n = self.normal(i, g.inner)
                 qm = self.point(i, m0)
                 c = about(i, m0)
-                f = _add(c, about(j, h0)) / (-cross(_sub(qm, self.point(j, h0)), n)) * n
+                f = _times(_add(c, about(j, h0)), 1.0 / cross(n, _sub(qm, self.point(j, h0))), n)
                 X, Z = _sub(f, Fi), _sub(-f, Fj)
                 pairs += [(g.outer_i, i, g.known_i, X), (g.outer_j, j, g.known_j, Z)]
                 slides[g.inner] = (j, f, qm, c)
@@ -292,8 +376,9 @@ class Kinetostatics:
                 l0 = at[g.inner]
                 n1, n2 = self.normal(i, g.outer_i), self.normal(j, g.outer_j)
                 det = cross(n1, n2)
-                f1 = cross(n2, tot) / det * n1                   # N1·n1 + N2·n2 = −tot
-                f2 = cross(tot, n1) / det * n2
+                inv = 1.0 / det
+                f1 = _times(cross(n2, tot), inv, n1)             # N1·n1 + N2·n2 = −tot
+                f2 = _times(cross(tot, n1), inv, n2)
                 c1, c2 = -about(i, l0), -about(j, l0)
                 q = self.point(i, l0)
                 pairs.append((g.inner, j, i, _add(f1, Fi)))
@@ -305,8 +390,9 @@ class Kinetostatics:
                 m0 = at[g.outer_i]
                 n1, n2 = self.normal(i, g.inner), self.normal(j, g.outer_j)
                 det = cross(n1, n2)
-                f1 = cross(n2, Fj) / det * n1                    # N1·n1 + N2·n2 = −Fj
-                f2 = cross(Fj, n1) / det * n2
+                inv = 1.0 / det
+                f1 = _times(cross(n2, Fj), inv, n1)              # N1·n1 + N2·n2 = −Fj
+                f2 = _times(cross(Fj, n1), inv, n2)
                 c1 = about(i, m0)
                 q = self.point(i, m0)
                 c2 = -_add(c1, about_at(j, q))                   # the pin M is not a point of j
@@ -330,11 +416,12 @@ class Kinetostatics:
             k = drv.link
             u = -1j * self.normal(k, drv.pivot)
             effort = -(F[k] * np.conjugate(u)).real          # N along the guide, + extending
-            f = _sub(-F[k], effort * u)                      # the guide's normal force on the slider
+            push = _fz(effort) * u
+            f = _sub(-F[k], push)                            # the guide's normal force on the slider
             q = self.point(k, pv)
             c = -about(k, pv)
             slides[drv.pivot] = (k, f, q, c)
-            take_at(self.ground, _add(f, effort * u), q, c)
+            take_at(self.ground, _add(f, push), q, c)
         return Pass(effort, pairs, slides, F[self.ground], M[self.ground])
 
     def _cylinder(self, pairs: list, first: int, slides: dict, rod_f, rod_m):
@@ -356,7 +443,7 @@ class Kinetostatics:
         n_vec = self.normal(barrel, slide)
         u = -1j * n_vec
         axial = (t * np.conjugate(u)).real
-        f = (t * np.conjugate(n_vec)).real * n_vec
+        f = _fz((t * np.conjugate(n_vec)).real) * n_vec
         p0 = self.at[slide]
         # the barrel's moment on the rod about H is −rod_m; about the rod's point of the slide:
         c = _sub(-rod_m, (self.carm(rod, p0) * t).imag) if not _zero(self.arm(rod, p0)) else -rod_m
