@@ -48,6 +48,7 @@ def _leaves(node: Any, path: tuple = ()) -> list[tuple[tuple, Any]]:
 
 
 def _set(doc: Any, path: tuple, value: Any) -> None:
+    value = json.loads(json.dumps(value, allow_nan=True))   # never share WRONG's [] and {} objects
     node = doc
     for key in path[:-1]:
         node = node[key]
