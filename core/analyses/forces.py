@@ -295,8 +295,9 @@ def _views(ks: Kinetostatics, p: Pass, valid: np.ndarray, all_valid: bool
     pins: dict[str, dict[str, np.ndarray]] = {}
     slides: dict[str, SlideReaction] = {}
     single = {j: (on, f) for j, on, _by, f in p.pairs}   # the one pair of a two-link joint
+    carriers_of = ks.static.carriers
     for j in lk.joints:
-        carriers = lk.links_of(j.id)
+        carriers = carriers_of[j.id]
         if len(carriers) < 2:
             continue
         if j.kind is JointKind.R:

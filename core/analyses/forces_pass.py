@@ -34,15 +34,18 @@ def _c(xy) -> complex:
     return complex(float(xy[0]), float(xy[1]))
 
 
+_ND = np.ndarray
+
+
 def _zero(x) -> bool:
     """``x`` is a scalar zero (not an array): it need not enter an array operation."""
-    return not isinstance(x, np.ndarray) and x == 0
+    return type(x) is not _ND and x == 0
 
 
 def _fz(x):
     """A float array as complex (a copy, cheap), a scalar as is: numpy's mixed float × complex
     array products cast in small buffers and cost three to four complex products."""
-    return x.astype(np.complex128) if isinstance(x, np.ndarray) and x.dtype != np.complex128 else x
+    return x.astype(np.complex128) if type(x) is _ND and x.dtype != np.complex128 else x
 
 
 def _times(a, inv, z):
@@ -54,11 +57,19 @@ def _times(a, inv, z):
 
 
 def _add(a, b):
-    return b if _zero(a) else a if _zero(b) else a + b
+    if type(a) is not _ND and a == 0:
+        return b
+    if type(b) is not _ND and b == 0:
+        return a
+    return a + b
 
 
 def _sub(a, b):
-    return a if _zero(b) else -b if _zero(a) else a - b
+    if type(b) is not _ND and b == 0:
+        return a
+    if type(a) is not _ND and a == 0:
+        return -b
+    return a - b
 
 
 @dataclass
@@ -87,6 +98,7 @@ class _Static:
         lk = plan.linkage
         self.at = at = {j.id: _c(j.at) for j in lk.joints}
         self.carriers = {j.id: lk.links_of(j.id) for j in lk.joints}
+        self.link_ids = lk.link_ids
         ground = lk.ground
         pivot = at[lk.driver.pivot]
         g = _c(lk.gravity) if lk.gravity is not None else 0j
@@ -151,7 +163,9 @@ class Kinetostatics:
         self.lk = lk = plan.linkage
         self.n = len(sol)
         self.ground = lk.ground
-        self.st: dict[str, LinkState] = {k: sol.link_state(k) for k in lk.link_ids}
+        hit = _STATIC.get(id(plan))
+        ids = hit[1].link_ids if hit is not None and hit[0]() is plan else lk.link_ids
+        self.st: dict[str, LinkState] = {k: sol.link_state(k) for k in ids}
         self.static = _static(plan, self.st)
         self.at = self.static.at
         drv = lk.driver
@@ -219,7 +233,8 @@ class Kinetostatics:
         st = self.st[k]
         if _zero(arm):
             return st.vA
-        return _add(st.vA, _fz(st.omega) * (1j * arm))
+        w = st.omega
+        return _add(st.vA, _fz(w) * (1j * arm) if isinstance(w, np.ndarray) else arm * (1j * w))
 
     # -- applied loads ----------------------------------------------------------------------
     def crot(self, k: str):
@@ -283,7 +298,8 @@ class Kinetostatics:
         tension/ℓ times the vector d from end 0 to end 1. Float factors are cast to complex once
         before a product with a complex array (numpy's mixed products cost three to four complex
         ones)."""
-        d = _sub(self.point(b, pb0), self.point(a, pa0))
+        # d = (ref_b − ref_a) + arm_b − arm_a, the scalars (a frame or a pivoted link) first
+        d = _sub(_add(_sub(self.ref(b), self.ref(a)), self.arm(b, pb0)), self.arm(a, pa0))
         if len(coef) == 2:
             t = coef[0] - coef[1] / np.abs(d)                              # k·(ℓ − ℓ0)/ℓ
         else:
@@ -307,6 +323,12 @@ class Kinetostatics:
             if _zero(arm(k, q0)) or _zero(F[k]):
                 return M[k]
             return _sub(M[k], (carm(k, q0) * F[k]).imag)
+
+        def mom(k: str, q0: complex, f):
+            """cross(arm of k's point drawn at q0, f) (N·mm; a scalar zero when either is)."""
+            if _zero(f) or _zero(arm(k, q0)):
+                return 0.0
+            return (carm(k, q0) * f).imag
 
         def about_at(k: str, q):
             """Moment (N·mm) of link k's loads about the absolute point q (mm)."""
@@ -341,7 +363,8 @@ class Kinetostatics:
             if g.kind is GroupKind.RRR:
                 m0, h0, l0 = at[g.outer_i], at[g.outer_j], at[g.inner]
                 ri, rj = _sub(arm(i, m0), arm(i, l0)), _sub(arm(j, h0), arm(j, l0))
-                b = _sub(about(j, l0), cross(rj, tot))
+                # about(j, l0) − cross(rj, tot): j's moment about H once X at L is known
+                b = _sub(_add(M[j], mom(j, l0, Fi)), mom(j, h0, tot))
                 inv = 1.0 / cross(rj, ri)                             # −1/cross(ri, rj)
                 X = _add(_times(about(i, l0), inv, rj), _times(b, inv, ri))   # on i at M from known_i
                 Z = _sub(-tot, X) if not _zero(tot) else -X
