@@ -12,7 +12,6 @@ exports as CSV (a core :class:`Table`) and the plots as a PNG.
 from __future__ import annotations
 
 import os
-import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
@@ -24,6 +23,7 @@ from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QHBoxLayout, QLabel, QToolButton, QVBoxLayout, QWidget
 
 from mechsketch.core import ExportError, MechsketchError
+from mechsketch.core.io.atomic import atomic_write
 from mechsketch.core.io.table import Table, write_csv
 from mechsketch.core.model.linkage import Linkage
 
@@ -320,18 +320,10 @@ class PlotsPanel(LazyRefresh, QWidget):
         exporter = ImageExporter(self.graphics.scene())
         exporter.parameters()["width"] = int(width)
         image = exporter.export(toBytes=True)
-        tmp = None
-        try:
-            fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".png", dir=target.parent)
-            os.close(fd)
-            if image is None or not image.save(tmp, "PNG"):
-                raise ExportError(f"cannot write {target}: the image could not be encoded")
-            os.replace(tmp, target)
-            tmp = None
-        except ExportError:
-            raise
-        except OSError as exc:
-            raise ExportError(f"cannot write {target}: {exc.strerror or exc}") from None
-        finally:
-            if tmp is not None and os.path.exists(tmp):
-                os.unlink(tmp)
+        if image is None:
+            raise ExportError(f"cannot write {target}: the image could not be encoded")
+
+        def write(tmp: str) -> None:
+            if not image.save(tmp, "PNG"):
+                raise OSError("the image could not be encoded")
+        atomic_write(target, write)   # keeps an overwritten file's mode, writes through a symlink
