@@ -195,8 +195,12 @@ class ForceResult:
     def power(self) -> PowerBalance:
         """The power balance per sample (motor + loads − d(KE)/dt), computed on first access."""
         if self._power is None:
-            ks, F, M, motor, valid = self._power_args
+            ks, motor, valid = self._power_args
+            with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+                F, M = ks.applied(keep_inertia=True)
             self._power = _balance(ks, F, M, motor, valid)
+            ks.release()
+            self._power_args = None
         return self._power
 
     def reaction(self, joint: str, link: str | None = None) -> np.ndarray:
@@ -345,8 +349,11 @@ def linkage_forces(plan: Plan, sol: Solution) -> ForceResult:
     unit = MM if ekind == "torque" else 1.0     # the pass's effort: N·mm (crank) or N (actuator)
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
         w = ks.motor_speed()      # rad/s (crank) or m/s (actuator): motor power = effort × w
-        F, M = ks.applied()
-        p = ks.run(F, M)
+        if ks.lk.friction:   # the friction's power balance is eager: it needs the inertia loads
+            F, M = ks.applied(keep_inertia=True)
+            p = ks.run(F, M)
+        else:                # the loads are dropped group by group as the pass goes
+            p = ks.run(*ks.applied(), consume=True)
         effort = _arr(unit * p.effort, n)
         # every reaction a group finds is passed on to its known links and so, group by group,
         # to the frame (and the driver): a NaN or inf anywhere reaches these sums
@@ -372,6 +379,7 @@ def linkage_forces(plan: Plan, sol: Solution) -> ForceResult:
                       frame_f, frame_m, {s.group.name: _arr(sol.group_output(s.group.name).cond, n)
                                          for s in plan.steps},
                       friction, groups=tuple(s.group for s in plan.steps), unit=plan.input_unit)
-    res._power_args = (ks, F, M, effort * w, valid)
+    ks.release()
+    res._power_args = (ks, effort * w, valid)
     res.seconds = time.perf_counter() - start
     return res

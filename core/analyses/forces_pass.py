@@ -187,6 +187,13 @@ class Kinetostatics:
         #: inertia loads per massive link (force N, moment N·mm about its reference), for the power
         self.inertia: dict[str, tuple[object, object]] = {}
 
+    def release(self) -> None:
+        """Drop the cached arms, normals and inertia loads (kept only while a pass runs; the
+        power balance recomputes what it needs)."""
+        keep = {key: v for key, v in self._arm.items() if self.cyl is not None and key[0] == self.cyl[0]}
+        self._arm, self._carm, self._crot, self._normal = keep, {}, {}, {}
+        self.inertia = {}
+
     # -- link points ------------------------------------------------------------------------
     def ref(self, k: str):
         """The reference point of link ``k`` (mm)."""
@@ -244,9 +251,10 @@ class Kinetostatics:
             v = self._crot[k] = np.conjugate(self.st[k].rot)
         return v
 
-    def applied(self) -> tuple[dict, dict]:
+    def applied(self, keep_inertia: bool = False) -> tuple[dict, dict]:
         """Per link the resultant of gravity, inertia and the applied loads: force (complex N)
-        and moment about the link's reference (N·mm). Fills :attr:`inertia`.
+        and moment about the link's reference (N·mm). Fills :attr:`inertia` when ``keep_inertia``
+        (the power balance needs it; the reactions do not, and memory is time at this size).
 
         Constant forces (point forces, gravity) on a link are summed once per plan, force and
         moment alike (a moment about the reference is Im(conj(rot)·W) with W = Σ conj(p0 − a0)·f
@@ -279,7 +287,8 @@ class Kinetostatics:
                     t *= d.conjugate()
                     m_in = _add(m_in, t.imag)
             f_in = _add(q, f_in)
-            self.inertia[k] = (f_in, m_in)
+            if keep_inertia:
+                self.inertia[k] = (f_in, m_in)
             F[k] = _add(F[k], f_in)
             M[k] = _add(M[k], m_in)
         for a, pa0, b, pb0, coef in S.springs:
@@ -311,9 +320,10 @@ class Kinetostatics:
         return _fz(t) * d
 
     # -- the pass ---------------------------------------------------------------------------
-    def run(self, F0: dict, M0: dict) -> Pass:
-        """Reactions for the link loads ``F0``/``M0`` (not modified), last group first."""
-        F, M = dict(F0), dict(M0)
+    def run(self, F0: dict, M0: dict, consume: bool = False) -> Pass:
+        """Reactions for the link loads ``F0``/``M0``, last group first. They are not modified
+        unless ``consume`` (then they are used up: a solved group's loads are dropped at once)."""
+        F, M = (F0, M0) if consume else (dict(F0), dict(M0))
         pairs: list = []
         slides: dict = {}
         at, arm, carm = self.at, self.arm, self.carm
@@ -427,6 +437,8 @@ class Kinetostatics:
                 take_at(g.known_j, f2, q, c2)
             if vgroup:
                 effort = self._cylinder(pairs, first, slides, rod_f, rod_m)
+                F[cyl[1]], M[cyl[1]] = 0j, 0.0
+            F[i], F[j], M[i], M[j] = 0j, 0j, 0.0, 0.0   # done: their memory goes back for the next group
         drv = self.lk.driver
         pv = at[drv.pivot]
         if self.kind == "crank":
