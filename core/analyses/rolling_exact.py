@@ -46,6 +46,8 @@ _END_X, _END_W = np.polynomial.legendre.leggauss(40)
 #: 1e-10 mm; each attempt costs 14 evaluations, ~40 µs) and wall-clock seconds
 MAX_STEPS = 50_000
 MAX_SECONDS = 20.0
+#: roundings enter the error bound with this many standard deviations of their quadrature sum
+ROUNDING_SIGMAS = 4.0
 
 
 class _Budget(Exception):
@@ -106,10 +108,11 @@ class _March:
     s5: list
     error: float = 0.0
     evaluations: int = 0
-    #: running bounds of the global errors of α (rad) and S5 (mm) at each node (see :func:`_bound`)
+    #: running bounds of the global errors of α (rad) and S5 (mm) at each node (see :func:`_bound`):
+    #: truncation (and carried-in) errors summed as they grow, ``ea``, ``es``; roundings of α, as
+    #: independent errors, in quadrature, ``er`` (rms, rad)
     ea: list = field(default_factory=lambda: [0.0])
     es: list = field(default_factory=lambda: [0.0])
-    #: the part of ``ea`` due to rounding (no smaller step reduces it)
     er: list = field(default_factory=lambda: [0.0])
     #: growth Π max(|∂α_{k+1}/∂α_k|, 1) of α errors over the mesh
     growth: float = 1.0
@@ -132,6 +135,10 @@ def _march(k: ScalarKernel, m: _March, target: float, rate: float, h: float, hmi
     """
     th, a, s = m.theta[-1], m.alpha[-1], m.s5[-1]
     a_lo = s_lo = 0.0   # compensated sums: α and S5 lose no bits to the many small increments
+    # the right-hand side's arithmetic acts like a perturbation of the pose by a few roundings of
+    # the coordinates it combines, relative to the rocker length (rad)
+    ulps = 4.0 * np.finfo(float).eps * (1.0 + (math.hypot(k.gx, k.gy) + math.hypot(*k.v1)
+                                                + math.hypot(*k.v2)) / max(k.ell, 1e-300))
     floor = 4.0 * np.finfo(float).eps * max(k.ell, 1.0)  # round-off level of one step (mm)
     direction = 1.0 if target > th else -1.0
     t0 = time.perf_counter()
@@ -186,19 +193,20 @@ def _march(k: ScalarKernel, m: _March, target: float, rate: float, h: float, hmi
         a_new, a_lo = _two_sum(a_new, c)
         s_new, c = _two_sum(s, inc[1] + s_lo)
         s_new, s_lo = _two_sum(s_new, c)
-        # local errors of α (rad) and S5 (mm): Richardson, plus the rounding of the increment and
-        # of the compensation; an α error at the step's start grows over it by 1 + h·∂f/∂α and
-        # feeds S5 by h·∂g/∂α
-        rnd = 2.0 * math.ulp(inc[0]) + math.ulp(a_lo)
-        ea = abs(full[0] - half[0]) / 15.0 + rnd
-        es = abs(full[1] - half[1]) / 15.0 + 2.0 * math.ulp(inc[1]) + math.ulp(s_lo)
+        # local errors of α (rad) and S5 (mm): Richardson, plus the rounding of the increment, of
+        # the compensation and of the right-hand side (its arithmetic perturbs the pose by some
+        # ulps, seen through ∂f/∂α, which grows like 1/√D1 at the tangent); an α error at the
+        # step's start grows over it by 1 + h·∂f/∂α and feeds S5 by h·∂g/∂α
         fa, ga = _rate_slopes(k, a_new, th + hs, direction)
         m.evaluations += 4
+        rnd = 2.0 * math.ulp(inc[0]) + math.ulp(a_lo) + abs(hs) * ulps * (1.0 + abs(fa))
+        ea = abs(full[0] - half[0]) / 15.0
+        es = abs(full[1] - half[1]) / 15.0 + 2.0 * math.ulp(inc[1]) + math.ulp(s_lo) + abs(hs) * ulps * abs(ga)
         grow = abs(1.0 + hs * fa)
         m.growth *= max(grow, 1.0)
         m.ea.append(grow * m.ea[-1] + ea)
-        m.er.append(grow * m.er[-1] + rnd)
-        m.es.append(m.es[-1] + abs(hs * ga) * m.ea[-2] + es)
+        m.er.append(math.hypot(grow * m.er[-1], rnd))
+        m.es.append(m.es[-1] + abs(hs * ga) * (m.ea[-2] + ROUNDING_SIGMAS * m.er[-2]) + es)
         a, s = a_new, s_new
         th = nxt
         m.error += err
@@ -249,17 +257,21 @@ def _bound(k: ScalarKernel, m: _March) -> tuple[float, float, float]:
     worst contact sensitivity |∂(P, Q)/∂α| (mm/rad)).
 
     P depends on the pose (α, θ) only and θ is exact, so P's error is |∂P/∂α|·δα; Q's is
-    |∂Q/∂α|·δα + δS5. δα and δS5 are bounded node by node by the local (Richardson) errors and
-    roundings, each carried along by the growth of α errors over the following steps. Near an end
-    of the working range |∂P/∂α| grows like 1/√(distance): α errors made early are seen there
-    magnified, which the sum of the local contact errors missed (issue 13, item 11)."""
+    |∂Q/∂α|·δα + δS5. δα and δS5 are bounded node by node by the local (Richardson) errors, summed,
+    and the roundings (of the update, of the compensation, of the right-hand side, whose effect
+    grows like ∂f/∂α), in quadrature with :data:`ROUNDING_SIGMAS` standard deviations (the
+    probabilistic bound of rounding analysis: linear sums of thousands of roundings overstate
+    them ~√N-fold), each carried along by the growth of α errors over the following steps. Near
+    an end of the working range |∂P/∂α| grows like 1/√(distance): α errors made early are seen
+    there magnified, which the sum of the local contact errors missed (issue 13, item 11)."""
     worst, rounding, sens = 0.0, 0.0, 0.0
     for th, a, s, ea, es, er in zip(m.theta, m.alpha, m.s5, m.ea, m.es, m.er):
         sp, sq = _contact_slopes(k, a, s, th)
         sens = max(sens, sp, sq)
-        here = max(sp * ea, sq * ea + es)
+        da = ea + ROUNDING_SIGMAS * er
+        here = max(sp * da, sq * da + es)
         if here > worst:
-            worst, rounding = here, max(sp, sq) * er
+            worst, rounding = here, max(sp, sq) * ROUNDING_SIGMAS * er
     return worst, rounding, sens
 
 
@@ -484,7 +496,7 @@ def integrate(geom: LeverGeometry, end: float, tol: float, start: tuple[float, f
         weight, limit = sens * m.growth, None
     m, bound = best
     return ExactPath(geom, np.array(m.theta), np.array(m.alpha), np.array(m.s5), bound, evaluations,
-                     m.ea[-1], m.es[-1])
+                     m.ea[-1] + ROUNDING_SIGMAS * m.er[-1], m.es[-1])
 
 
 def _budget_message(geom: LeverGeometry, start: float, end: float, tol: float, b: _Budget) -> str:

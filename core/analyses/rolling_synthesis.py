@@ -189,6 +189,8 @@ def synthesize(element: RollingLever, method: str | None = None, points: int | N
     grid = np.linspace(start, end, n + 1)
     al, s5 = path.at(grid)
     al[0], s5[0] = path.alpha[0], path.S5[0]
+    if grid[-1] == path.theta[-1]:   # the stroke's end is a node: its value, not a dense step to it
+        al[-1], s5[-1] = path.alpha[-1], path.S5[-1]
     t_exact = time.perf_counter() - t0
     if method == "exact":
         th = grid
