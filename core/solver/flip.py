@@ -19,10 +19,11 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..errors import GeometryError
+from ..errors import EditError, GeometryError
 from ..model.edits import ReplaceElement
 from ..model.linkage import JointKind, Linkage
 from . import kernels as K
+from .assembly import reassemble
 from .plan import Plan, compile_plan
 from .structure import MODAL_KINDS, GroupKind
 
@@ -91,6 +92,13 @@ def flip_group(linkage: Linkage, group: str) -> Linkage:
     if group not in names:
         raise GeometryError(f"linkage {linkage.id!r} has no group {group!r} (groups: {', '.join(names)})")
     index = names.index(group)
+    if plan.drive is not None and plan.drive.linear:   # an actuator's groups: closed again in order
+        if plan.steps[index].group.kind not in FLIPPABLE:
+            raise GeometryError(f"group {group} ({plan.steps[index].group.kind}) has no assembly mode to flip")
+        try:
+            return reassemble(linkage, flip=group, plan=plan)
+        except EditError as exc:
+            raise GeometryError(f"flipping {group}: {exc}; the drawing is unchanged") from None
     inputs = np.array([plan.theta0])
     states: dict[str, K.LinkState] = {
         linkage.ground: K.ground_state(),

@@ -14,6 +14,7 @@ from ..analyses.geneva_geometry import GenevaGeometry, geometry
 from ..analyses.geneva_kinematics import GenevaKinematics, kinematics
 from ..analyses.rolling_synthesis import RollingSynthesis, synthesize
 from ..errors import RequestError
+from ..solver.dimensions import Dimension, SetDimension, dimensions
 from ..solver.plan import Plan, Solution
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -78,6 +79,18 @@ class ElementView:
         power balance (SI units; arrays (N,) or (N, 2); see :class:`ForceResult`)."""
         self._need("linkage")
         return self._ws.forces(self._id, samples=samples)
+
+    def dimensions(self) -> list[Dimension]:
+        """Every length (mm) and angle (°) of the linkage, link by link: the dimension table
+        (:mod:`mechsketch.core.solver.dimensions`)."""
+        return dimensions(self._need("linkage"))
+
+    def set_dimension(self, key: str, value: float) -> Any:
+        """Set one dimension (``"length:crank:A:B"``, …) and re-assemble the linkage at its drawn
+        input, as one undoable edit of the workspace: returns the inverse edit. Raises EditError
+        naming the group that cannot close and by how much (nothing changes)."""
+        self._need("linkage")
+        return self._ws.apply(SetDimension(self._id, key, value))
 
     # -- Geneva drives --------------------------------------------------------------------
     def kinematics(self, samples: int | None = None) -> GenevaKinematics:
