@@ -308,7 +308,10 @@ class Kinetostatics:
         before a product with a complex array (numpy's mixed products cost three to four complex
         ones)."""
         # d = (ref_b − ref_a) + arm_b − arm_a, the scalars (a frame or a pivoted link) first
-        d = _sub(_add(_sub(self.ref(b), self.ref(a)), self.arm(b, pb0)), self.arm(a, pa0))
+        parts = [(self.ref(b), 1), (self.arm(b, pb0), 1), (self.ref(a), -1), (self.arm(a, pa0), -1)]
+        d = 0j
+        for x, sign in sorted(parts, key=lambda xs: type(xs[0]) is _ND):
+            d = _add(d, x) if sign > 0 else _sub(d, x)
         if len(coef) == 2:
             t = coef[0] - coef[1] / np.abs(d)                              # k·(ℓ − ℓ0)/ℓ
         else:
@@ -372,11 +375,18 @@ class Kinetostatics:
             tot = _add(Fi, Fj)
             if g.kind is GroupKind.RRR:
                 m0, h0, l0 = at[g.outer_i], at[g.outer_j], at[g.inner]
-                ri, rj = _sub(arm(i, m0), arm(i, l0)), _sub(arm(j, h0), arm(j, l0))
-                # about(j, l0) − cross(rj, tot): j's moment about H once X at L is known
+                # ai = L − M, aj = L − H; X (on i at M from known_i) balances i about L and j
+                # about H: X = (about_i(L)·aj + b·ai) / cross(ai, aj)
+                ai, aj = _sub(arm(i, l0), arm(i, m0)), _sub(arm(j, l0), arm(j, h0))
+                # about(j, l0) + cross(aj, tot): j's moment about H once X at L is known
                 b = _sub(_add(M[j], mom(j, l0, Fi)), mom(j, h0, tot))
-                inv = 1.0 / cross(rj, ri)                             # −1/cross(ri, rj)
-                X = _add(_times(about(i, l0), inv, rj), _times(b, inv, ri))   # on i at M from known_i
+                if _zero(arm(i, m0)):       # 1 / cross(ai, aj) from a cached conjugate arm
+                    inv = 1.0 / (carm(i, l0) * aj).imag
+                elif _zero(arm(j, h0)):
+                    inv = -1.0 / (carm(j, l0) * ai).imag
+                else:
+                    inv = 1.0 / cross(ai, aj)
+                X = _add(_times(about(i, l0), inv, aj), _times(b, inv, ai))
                 Z = _sub(-tot, X) if not _zero(tot) else -X
                 pairs += [(g.outer_i, i, g.known_i, X), (g.outer_j, j, g.known_j, Z),
                           (g.inner, j, i, _add(X, Fi))]
