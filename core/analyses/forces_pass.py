@@ -261,8 +261,8 @@ class Kinetostatics:
         a constant), so each link costs a few array operations however many loads it carries."""
         S = self.static
         F, M = dict(S.F0), dict(S.M0)
-        for k, w in S.wconst.items():
-            M[k] = _add(M[k], (self.crot(k) * w).imag)
+        wconst = dict(S.wconst)
+        fuse = not keep_inertia      # then a link's constant moment joins its inertia moment
         n = self.n
         for k, d, mk, alpha_coef in S.masses:
             st = self.st[k]
@@ -274,7 +274,7 @@ class Kinetostatics:
             f_in = 0j
             if d != 0:
                 w = st.omega
-                if isinstance(w, np.ndarray) or isinstance(al, np.ndarray):
+                if type(w) is _ND or type(al) is _ND:
                     kc = np.empty(n, dtype=np.complex128)      # mk·(iα − ω²), built in place
                     np.multiply(w * w, -mk, out=kc.real)
                     np.multiply(al, mk, out=kc.imag)
@@ -283,14 +283,28 @@ class Kinetostatics:
                 f_in = kc * st.rot
                 f_in *= d
                 if not _zero(q):
-                    t = self.crot(k) * q
-                    t *= d.conjugate()
+                    # mk·cross(r, a_A) = Im(conj(rot)·q·conj(d)) (+ the constant loads' Im(conj(rot)·W))
+                    t = q * d.conjugate()
+                    if fuse and k in wconst:
+                        t += wconst.pop(k)
+                    t = self.crot(k) * t
                     m_in = _add(m_in, t.imag)
-            f_in = _add(q, f_in)
+                if not _zero(q):
+                    f_in += q
+            else:
+                f_in = q
             if keep_inertia:
                 self.inertia[k] = (f_in, m_in)
-            F[k] = _add(F[k], f_in)
+                F[k] = _add(F[k], f_in)
+            elif type(f_in) is _ND and type(F[k]) is not _ND:
+                if F[k] != 0:
+                    f_in += F[k]                                # f_in is this call's own array
+                F[k] = f_in
+            else:
+                F[k] = _add(F[k], f_in)
             M[k] = _add(M[k], m_in)
+        for k, w in wconst.items():
+            M[k] = _add(M[k], (self.crot(k) * w).imag)
         for a, pa0, b, pb0, coef in S.springs:
             fa = self._spring(a, pa0, b, pb0, coef)
             F[a] = _add(F[a], fa)
