@@ -2,8 +2,9 @@
 
 For a loaded four-bar (the example ``fourbar_loaded``: masses, gravity, a force, a torque, a
 spring, a damper; its bearing friction timed apart), a loaded slider-crank and a loaded six-bar
-with a moving guide (masses on every link, gravity, a torque on the output), at N = 360, 3,600
-and 36,000 samples, prints:
+with a moving guide (masses on every link, gravity, a torque on the output), and the excavator
+arm driven by a cylinder on a cycloidal stroke (its driving force, N), at N = 360, 3,600 and
+36,000 samples, prints:
 
 - kinematics alone: ``plan.sweep(N)`` at order 2 (what the forces need);
 - kinematics + forces: the sweep and ``linkage_forces`` (driving torque, every joint reaction,
@@ -57,7 +58,9 @@ def cases():
     four = load_scene(example_path("fourbar_loaded")).element("loaded_fourbar")
     return [("four-bar (example fourbar_loaded)", replace(four, friction=()), four),
             ("slider-crank (masses, gravity, torque)", loaded("slider_crank_offset", "slider_crank", "slider"), None),
-            ("six-bar, moving guide (masses, gravity, torque)", loaded("sixbar_moving_guide", "sixbar", "block"), None)]
+            ("six-bar, moving guide (masses, gravity, torque)", loaded("sixbar_moving_guide", "sixbar", "block"), None),
+            ("cylinder arm, driving force (example excavator_arm: masses, gravity, torque)",
+             loaded("excavator_arm", "arm", "stick"), None)]
 
 
 def interleaved(jobs: dict, budget: float) -> dict:
