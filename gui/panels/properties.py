@@ -205,12 +205,14 @@ class PropertiesPanel(QWidget):
         return box
 
     def _field(self, name: str, read: Callable[[], float], write: Callable[[float], None]) -> QLineEdit:
-        """A number field: shows ``read()``; Enter (or leaving it) with a new value calls ``write``."""
+        """A number field: shows ``read()``; Enter (or leaving it) with a value other than the
+        model's calls ``write``. After every commit — accepted, refused or not a number — the field
+        shows what the model holds (compared with the model, not with the field's last text, so
+        typing the previous value back into the same field is an edit too)."""
         edit = QLineEdit()
         edit.setObjectName(name)
         edit.setMinimumWidth(70)
         self.fields[name] = edit
-        shown = {"text": ""}
 
         def update() -> None:
             if edit.hasFocus() and edit.isModified():
@@ -219,13 +221,21 @@ class PropertiesPanel(QWidget):
                 text = fmt(read())
             except MechsketchError:   # the joint or link went away: the panel rebuilds next
                 return
-            shown["text"] = text
             edit.setText(text)
             edit.setModified(False)
 
+        def show_model() -> None:
+            edit.setModified(False)
+            update()
+
         def commit() -> None:
             text = edit.text().strip()
-            if text == shown["text"]:
+            try:
+                current = fmt(read())
+            except MechsketchError:   # the joint or link went away: the panel rebuilds next
+                return
+            if text == current:
+                show_model()
                 return
             try:
                 value = float(text)
@@ -233,16 +243,13 @@ class PropertiesPanel(QWidget):
                     raise ValueError(f"{text!r} is not a finite number")
             except ValueError:
                 self.controller.message.emit(f"{name}: {text!r} is not a number")
-                edit.setText(shown["text"])
+                show_model()
                 return
             try:
                 write(value)
             except MechsketchError as exc:
                 self.controller.message.emit(f"{name}: {exc}")
-                edit.setText(shown["text"])
-                return
-            edit.setModified(False)   # show what the model holds now: a refused push left it as it was
-            update()
+            show_model()   # what the model holds now: a refused push left it as it was
 
         edit.editingFinished.connect(commit)
         self._refreshers.append(update)
