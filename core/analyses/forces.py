@@ -7,7 +7,11 @@ load a later group puts on the links of an earlier one is known when that group 
 each group's reactions come out of a few cross products (Cramer's rule on a 2×2 system whose
 determinant is the group's kinematic one, so forces grow as 1/conditioning near a dead point).
 Finally the driver link gives the torque the motor applies; the frame collects the shaking force
-and moment. Everything is vectorised over the samples of a :class:`~mechsketch.core.solver.plan.Solution`
+and moment. A linear actuator's effort is a force (N, positive extending): a slider driven along a
+frame guide takes it along the guide beside the guide's normal force and couple; a cylinder's
+barrel and rod are locked into the bar V of its group (loads summed about the barrel's pivot M),
+and the rod's own balance then gives the push along the slide axis (barrel on rod) and the
+slide's normal force and moment. Its power is the force times the rod's speed out of the barrel. Everything is vectorised over the samples of a :class:`~mechsketch.core.solver.plan.Solution`
 of order 2; nothing loops over samples.
 
 Loads on each link (d'Alembert): gravity m·g at the centre of mass, the inertia force −m·a_c and

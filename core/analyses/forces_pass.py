@@ -89,10 +89,10 @@ class Pass:
 
 class _Static:
     """What the kinetostatics of a plan needs that no sample changes, found once per plan: the
-    drawn joints and their links, each massive link's centre offset d (mm from its anchor),
-    −m (kg·m/mm... as ``mk`` = −m·1e-3) and the coefficient of α in its inertia moment, the
-    constant loads summed per link (force N; Σ conj(p0 − a0)·f N·mm; torques N·mm), the frame's
-    constant loads, and the springs and dampers."""
+    drawn joints and their links; per massive link (link, d, mk, alpha_coef): the centre's drawn
+    offset d from the link's anchor (mm), mk = −m·1e-3 (kg, with mm→m) and the coefficient of α
+    in its inertia moment (mk·|d|² − I, I in kg·m·mm); the constant loads summed per link (force N,
+    W = Σ conj(p0 − a0)·f N·mm, torques N·mm) and on the frame; the springs and dampers."""
 
     def __init__(self, plan: Plan, anchors: dict[str, complex]) -> None:
         lk = plan.linkage

@@ -78,7 +78,8 @@ def build_parser() -> argparse.ArgumentParser:
     a.add_argument("--csv", metavar="PATH|-")
     a.add_argument("--summary", action="store_true")
     a.add_argument("--forces", action="store_true",
-                   help="add the driving torque, joint reactions and shaking force/moment (N, N·m) "
+                   help="add the driving torque (a linear actuator: its force), joint reactions and "
+                        "shaking force/moment (N, N·m) "
                         "to the table and the summary")
     v = sub.add_parser("validate", help="list the problems of a scene file; exit 0 when there are none")
     v.add_argument("scene")
