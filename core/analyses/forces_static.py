@@ -28,6 +28,7 @@ class _Static:
 
     def __init__(self, plan: Plan, anchors: dict[str, complex]) -> None:
         lk = plan.linkage
+        self.anchors = anchors
         self.at = at = {j.id: _c(j.at) for j in lk.joints}
         self.carriers = {j.id: lk.links_of(j.id) for j in lk.joints}
         self.link_ids = lk.link_ids
@@ -77,10 +78,11 @@ _STATIC_MAX = 32
 
 
 def _static(plan: Plan, st: dict[str, LinkState]) -> _Static:
+    anchors = {k: s.a0 for k, s in st.items()}
     hit = _STATIC.get(id(plan))
-    if hit is not None and hit[0]() is plan:
+    if hit is not None and hit[0]() is plan and hit[1].anchors == anchors:
         return hit[1]
-    data = _Static(plan, {k: s.a0 for k, s in st.items()})
+    data = _Static(plan, anchors)
     if len(_STATIC) >= _STATIC_MAX:
         _STATIC.pop(next(iter(_STATIC)))
     _STATIC[id(plan)] = (weakref.ref(plan), data)

@@ -171,3 +171,27 @@ def test_actuator_summary_and_cli_columns(capsys, tmp_path):
     assert "not computed yet" not in out
     text = force_summary(res)
     assert "°" not in text.split("driving force")[1].split("\n")[0]
+
+
+def test_joint_friction_on_a_cylinder_arm_balances_and_costs_force():
+    """Friction circles at the cylinder's pivots and the boom pivot: the iteration converges, the
+    power balance with the friction moments closes, and the peak driving force grows."""
+    from mechsketch.core.model.loads import JointFriction
+    lk = heavy(example_arm())
+    lk = replace(lk, friction=(JointFriction("C1", 5.0), JointFriction("C2", 5.0), JointFriction("O", 8.0)))
+    sol, res = solve(lk)
+    fr = res.friction
+    assert fr.driver.kind == "force" and fr.converged.all() and fr.power.worst < 1e-13
+    assert np.abs(fr.driver.values).max() > np.abs(res.driver.values).max()
+    # the friction result is the equilibrium with its friction moments as known couples
+    k = 30
+    couples = {}
+    for j, rho in fr.radii.items():
+        a, b = lk.links_of(j)
+        f = fr.pins[j][b][k]
+        rel = sol.omega(b)[k] - (0.0 if a == lk.ground else sol.omega(a)[k])
+        c = -rho * 1e-3 * math.hypot(*f) * np.sign(rel)
+        couples[b] = couples.get(b, 0.0) + c
+        couples[a] = couples.get(a, 0.0) - c
+    e = equilibrium(lk, FloatKin(sol, k), couples)
+    assert math.isclose(fr.driver.values[k], e["T"], rel_tol=1e-9)
