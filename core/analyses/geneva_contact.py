@@ -25,9 +25,11 @@ all formulas below hold for u. Quantities (seeds/NOTES.md, section B):
   roller life [h]/(h_drive + h_brake) revolutions (all the roller's wear on one spot: a bound).
 
 The integrals are taken with breaks at u = 0 (kink of |ω_pi|) and where M changes sign (kink of
-|M|): a trapezoid rule on the samples plus the break points gives the cumulative column, and an
-independent Gauss–Legendre rule on each smooth piece gives the per-engagement total (used in T_i)
-and the wear depths; both totals are reported. Vectorised over samples; no loop over samples.
+|M|): Gauss–Legendre on each interval between consecutive samples and break points gives the
+cumulative column (as accurate as the total: its last value is the total to rounding), and
+Gauss–Legendre on each smooth piece gives the per-engagement total (used in T_i) and the wear
+depths; the trapezoid rule on the same points is reported beside them for comparison. Vectorised
+over samples; no loop over samples.
 """
 from __future__ import annotations
 
@@ -38,6 +40,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..errors import GeometryError
 from .geneva_kinematics import EDGE_TOL
 
 if TYPE_CHECKING:
@@ -45,6 +48,9 @@ if TYPE_CHECKING:
 
 #: Gauss–Legendre nodes per smooth piece of the engagement
 GAUSS_NODES = 48
+#: Gauss–Legendre nodes per interval between samples of the running slip path (each interval is
+#: at most one piece's width; the integrand is smooth on it)
+INTERVAL_NODES = 8
 #: grid used to bracket the sign changes of M before bisection
 ROOT_GRID = 513
 #: the constant of the paper's strip width (eq. 2)
@@ -76,8 +82,13 @@ class ContactConstants:
         self.fr = el.load.journal_friction * el.load.journal_radius * 1e-3  # m
         e1, n1 = el.roller_material.E, el.roller_material.poisson
         e2, n2 = el.wheel_material.E, el.wheel_material.poisson
+        for what, e in (("roller", e1), ("wheel", e2)):
+            if not (math.isfinite(e) and e > 0.0):
+                raise GeometryError(f"{el.id}: the {what} material's Young's modulus E = {e!r} MPa must be a "
+                                    "positive finite number")
+        # compliances, not products: moduli near the float limit neither overflow nor give inf/inf
         self.e_star = 1.0 / ((1 - n1 * n1) / e1 + (1 - n2 * n2) / e2)  # MPa
-        self.e_pair = 2.0 * e1 * e2 / (e1 + e2)  # MPa, the handbook's reduced modulus
+        self.e_pair = 2.0 / (1.0 / e1 + 1.0 / e2)  # MPa, the handbook's reduced modulus 2E1E2/(E1 + E2)
         self.defo = 4.0 * (1 - n1 * n1) / e1 / self.length  # mm/N, times (0.41 + ln)
         self.model = model
 
@@ -177,8 +188,9 @@ class GenevaContact:
     ``phi`` crank angle (rad), ``u`` progress angle (rad), ``engaged`` (bool).
 
     Scalars: ``slip_path_total`` L_s per engagement by Gauss–Legendre on each smooth piece (mm,
-    independent of N; it enters T_i) and ``slip_path_total_trapezoid`` by the trapezoid rule on the
-    samples with breaks (mm, the last value of the ``slip_path`` column);
+    independent of N; it enters T_i; the last value of the ``slip_path`` column, which is
+    Gauss–Legendre on every interval between samples and breaks) and ``slip_path_total_trapezoid``
+    by the trapezoid rule on the samples with breaks (mm, for comparison);
     ``breaks`` the break points (u, rad); ``Rn_max`` (N) at ``phi_Rn_max`` (rad);
     ``pressure_max`` (MPa) at ``phi_pressure_max``; ``wear_invariant_max`` (N·min/m);
     ``life`` (:class:`ArchardLife`); ``model`` the choices used; ``assumptions`` stated in words.
@@ -246,17 +258,23 @@ def contact(element: "Geneva", samples: int, model: "ContactModel") -> GenevaCon
     eng = np.abs(u_all) <= c.phi0 + EDGE_TOL
     ue = np.clip(u_all[eng], -c.phi0, c.phi0)
     br = breakpoints(c)
-    # merged grid: engaged samples plus break points, sorted; trapezoid, then back to the samples
+    # merged grid: engaged samples plus break points, sorted; Gauss–Legendre on every interval
+    # (the integrand is smooth between neighbours), summed, then back to the samples
     grid = np.concatenate([ue, br])
     order = np.argsort(grid, kind="stable")
     ug = grid[order]
     f = _fields(ug, c)
     g = f["g"]
-    cum = np.concatenate([[0.0], np.cumsum(0.5 * (g[1:] + g[:-1]) * np.diff(ug))])
+    x, w = _gauss(INTERVAL_NODES)
+    half = 0.5 * np.diff(ug)
+    mid = 0.5 * (ug[1:] + ug[:-1])
+    pieces = (_fields(mid[:, None] + half[:, None] * x[None, :], c)["g"] @ w) * half
+    cum = np.concatenate([[0.0], np.cumsum(pieces)])
+    trapezoid = float(np.sum(0.5 * (g[1:] + g[:-1]) * np.diff(ug)))
     pos = np.empty_like(order)
     pos[order] = np.arange(order.size)
     at = pos[: ue.size]  # where each engaged sample sits in the merged grid
-    total_t = float(cum[-1])
+    total_t = trapezoid
     total, pw_drive, pw_brake = _gauss_integrals(c, br, GAUSS_NODES)
 
     def full(arr: np.ndarray) -> np.ndarray:

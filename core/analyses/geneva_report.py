@@ -78,25 +78,34 @@ def summary(el: Geneva, kin: GenevaKinematics, con: GenevaContact) -> str:
     m = con.model
     life = con.life
     eng = con.engaged
+    loaded = con.Rn_max > 0.0
+    where_rn = f"at φ = {_deg(con.phi_Rn_max)} (most loaded place)" if loaded else \
+        "(no load: J2 = 0 and no external moment, so the roller transmits no force anywhere)"
+    t_i = (f"up to {con.wear_invariant_max:.4g} N·min/m" if math.isfinite(con.wear_invariant_max) else
+           "undefined: with no load R_n = 0 and L_s = 0 (0/0), so its column is empty" if not loaded else
+           "undefined (L_s = 0), so its column is empty")
+    where_p = f"at φ = {_deg(con.phi_pressure_max)}" if loaded else "(no load)"
     lines += [
         "contact and wear (Stetsiv, corrected; columns: N, N·m, mm, mm/s, N·min/m, MPa; empty outside the engagement):",
-        f"  Rn = {m.normal_force} form: max {con.Rn_max:.6g} N at φ = {_deg(con.phi_Rn_max)} (most loaded place); "
+        f"  Rn = {m.normal_force} form: max {con.Rn_max:.6g} N {where_rn}; "
         f"paper's eq. (3) max {np.nanmax(con.Rn_paper[eng]) if eng.any() else 0.0:.6g} N; derived max "
         f"{np.nanmax(con.Rn_derived[eng]) if eng.any() else 0.0:.6g} N",
         f"  strip width a_paper up to {_mx(con.strip_width) * 1e3:.4g} µm, Hertz half-width b up to "
         f"{_mx(con.hertz_half_width) * 1e3:.4g} µm, roller deformation Δ up to {_mx(con.deformation) * 1e3:.4g} µm, "
         f"|ω_pi| up to {_mx(np.abs(con.rolling_ratio)):.4g} (r/r_p at entry)",
         f"  slip path per engagement L_s = {con.slip_path_total * 1e3:.6g} µm (Gauss–Legendre on each smooth piece, "
-        f"breaks at progress angles {', '.join(_deg(b) for b in con.breaks)}); the slip_path column (trapezoid on "
-        f"the samples with the same breaks) ends at {con.slip_path_total_trapezoid * 1e3:.6g} µm (relative "
-        f"difference {_rel(con.slip_path_total_trapezoid, con.slip_path_total):.2g}); slip speed up to "
+        f"breaks at progress angles {', '.join(_deg(b) for b in con.breaks)}; the slip_path column, Gauss–Legendre "
+        f"on every interval between samples and breaks, ends there; the trapezoid rule on the same points would "
+        f"give {con.slip_path_total_trapezoid * 1e3:.6g} µm, relative difference "
+        f"{_rel(con.slip_path_total_trapezoid, con.slip_path_total):.2g}); slip speed up to "
         f"{_mx(con.slip_speed):.4g} mm/s (invariant v_s/(ω1·r_p) up to {_mx(con.slip_speed_invariant):.4g})",
-        f"  paper's wear invariant T_i = π·R_n·z/(30·ω1·L_s) up to {con.wear_invariant_max:.4g} N·min/m",
-        f"  peak contact pressure p_max = 2R_n/(π·b·l) = {con.pressure_max:.4g} MPa at φ = {_deg(con.phi_pressure_max)}",
+        f"  paper's wear invariant T_i = π·R_n·z/(30·ω1·L_s) {t_i}",
+        f"  peak contact pressure p_max = 2R_n/(π·b·l) = {con.pressure_max:.4g} MPa {where_p}",
         f"  Archard (k = {el.wear.specific_wear_rate:g} mm³/(N·m), [h] = {el.wear.allowed_wear:g} mm): wear per "
-        f"engagement {life.depth_drive:.3g} mm (driving flank), {life.depth_brake:.3g} mm (braking flank); slot life "
-        f"{life.slot_cycles:.3g} crank turns, roller {life.roller_cycles:.3g}; limiting: {life.limiting}, "
-        f"{life.cycles:.3g} turns = {life.hours:.3g} h at {abs(el.speed_rpm):g} rpm",
+        f"engagement {life.depth_drive:.3g} mm (driving flank), {life.depth_brake:.3g} mm (braking flank); " + (
+            f"slot life {life.slot_cycles:.3g} crank turns, roller {life.roller_cycles:.3g}; limiting: "
+            f"{life.limiting}, {life.cycles:.3g} turns = {life.hours:.3g} h at {abs(el.speed_rpm):g} rpm"
+            if math.isfinite(life.cycles) else "no wear, so no limit to the life of slot or roller"),
         "assumptions:",
     ]
     lines += [f"  - {a}" for a in con.assumptions]

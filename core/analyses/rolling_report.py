@@ -70,8 +70,11 @@ def summary(res: "RollingSynthesis") -> str:
         lines.append(f"  IC offset from the rocker line      {p.ic_offset:.4e} mm")
         lines.append(f"  deviation from the exact centrode   {p.deviation:.4e} mm")
         ph = rep.physical
-        lines.append(f"  physical slip on a spline profile   {ph.slip:.4e} mm over θ ∈ [{ph.start:.4f}, {ph.end:.4f}] "
-                     f"rad ({ph.rolled:.4g} mm rolled, {100.0 * ph.ratio:.3g} %)")
+        if math.isfinite(ph.slip):
+            lines.append(f"  physical slip on a spline profile   {ph.slip:.4e} mm over θ ∈ [{ph.start:.4f}, {ph.end:.4f}] "
+                         f"rad ({ph.rolled:.4g} mm rolled, {100.0 * ph.ratio:.3g} %)")
+        else:
+            lines.append(f"  physical slip on a spline profile   not computed: {ph.reason}")
         if rep.refined is not None:
             a, b = p.kinematic_slip, rep.refined.kinematic_slip
             if res.method == "paper":

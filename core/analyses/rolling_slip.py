@@ -227,13 +227,15 @@ def point_slip_samples(geom: LeverGeometry, theta, F, u1, u2, S5) -> SlipSamples
 
 @dataclass(frozen=True)
 class PhysicalSlip:
-    """The real mechanism run on a spline profile: slip (mm) over θ ∈ [start, end] rolling ``rolled`` mm."""
+    """The real mechanism run on a spline profile: slip (mm) over θ ∈ [start, end] rolling ``rolled``
+    mm. ``slip`` is NaN only when no run of two samples exists; ``reason`` then says why."""
 
     slip: float
     rolled: float
     start: float
     end: float
     samples: int
+    reason: str = ""
 
     @property
     def ratio(self) -> float:
@@ -250,8 +252,10 @@ def physical_slip(geom: LeverGeometry, P: np.ndarray, theta_nodes: np.ndarray, a
     Per sample the one unknown is the profile parameter s: the lever circle tangent to the profile
     at S(s) has its centre at S + σR1·N(s), and that centre must put the pin on the rocker circle,
     |C1 − Rot(θ)(c1 − f) − G| = ℓ (Newton, vectorised over θ). The contact angle u on the circle
-    follows; the slip is Σ | |Δs_profile| − R1|Δu| | over the samples. The run stops where the
-    contact leaves the profile (0.5 % extrapolation allowed) or no tangent pose exists.
+    follows; the slip is Σ | |Δs_profile| − R1|Δu| | over the samples. The run covers the longest
+    stretch of samples where a tangent pose exists with the contact on the profile (0.5 %
+    extrapolation allowed): with few points the spline's end tangents are off and the lever may
+    meet the profile only beyond its first or last point, so the run starts a little later.
     """
     sp = NaturalSpline(P)
     th_n = np.asarray(theta_nodes, dtype=float)
@@ -283,17 +287,32 @@ def physical_slip(geom: LeverGeometry, P: np.ndarray, theta_nodes: np.ndarray, a
             break
     margin = 0.005 * sp.length_param
     inside = ok & (s >= -margin) & (s <= sp.length_param + margin)
-    last = len(theta) if np.all(inside) else int(np.argmin(inside))
-    if last < 2:
-        return PhysicalSlip(math.nan, 0.0, float(start), float(start), 0)
-    s, theta = s[:last], theta[:last]
+    first, last = _longest_run(inside)
+    if last - first < 2:
+        if not ok.any():
+            why = "the lever finds no pose tangent to the spline profile at any sample"
+        else:
+            why = ("the lever touches the spline profile only beyond its ends (the spline through "
+                   f"{len(P)} points is too coarse there): use more points")
+        return PhysicalSlip(math.nan, 0.0, float(start), float(start), 0, why)
+    s, theta = s[first:last], theta[first:last]
     d1 = sp.eval(s, 1)
     N = np.stack([-d1[:, 1], d1[:, 0]], axis=-1) / np.hypot(d1[:, 0], d1[:, 1])[:, None]
     dirn = rot(-theta, -sigma * N)
     u = np.unwrap(np.arctan2(dirn[:, 1], dirn[:, 0]))
     ds = sp.arc(s[:-1], s[1:])
     slip = float(np.sum(np.abs(ds - geom.R1 * np.abs(np.diff(u)))))
-    return PhysicalSlip(slip, float(np.sum(ds)), float(theta[0]), float(theta[-1]), last - 1)
+    return PhysicalSlip(slip, float(np.sum(ds)), float(theta[0]), float(theta[-1]), last - first - 1)
+
+
+def _longest_run(mask: np.ndarray) -> tuple[int, int]:
+    """[first, last) of the longest run of True in ``mask`` ((0, 0) if none)."""
+    edges = np.flatnonzero(np.diff(np.concatenate(([0], mask.astype(np.int8), [0]))))
+    if edges.size == 0:
+        return 0, 0
+    starts, stops = edges[::2], edges[1::2]
+    k = int(np.argmax(stops - starts))
+    return int(starts[k]), int(stops[k])
 
 
 def _side(geom: LeverGeometry, theta0: float, alpha0: float, p0: np.ndarray, n0: np.ndarray) -> float:

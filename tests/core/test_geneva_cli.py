@@ -72,7 +72,7 @@ def test_summary_states_numbers_limits_and_assumptions(capsys):
     for words in ("z = 6", "i_max", "ε̃_max = 1.34964", "φ = -22.9° (speeding up)", "tan(π/z)·ω1² = 57.73",
                   "never interpolated", "maximum hub radius 41.4500", "slot depth 45.1525", "land angle 2.672°",
                   "relief of the locking disc", "87.602 mm drawn", "87.50181 to avoid contact",
-                  "L_s = 0.779849", "Gauss–Legendre", "ends at 0.779849", "N·min/m", "p_max", "Archard",
+                  "L_s = 0.779849", "Gauss–Legendre", "ends there", "would give 0.779849", "N·min/m", "p_max", "Archard",
                   "crank turns", "assumptions:", "note B3", "a_paper/2", "deformed radius", "upper bound",
                   "λ = r/A = sin(π/z)"):
         assert words in out, words

@@ -146,7 +146,7 @@ def test_sampled_columns_against_the_independent_fields_and_eq5_against_drho():
         assert c.rolling_ratio[k] == pytest.approx(drho / el.roller_radius, rel=1e-7, abs=1e-9)
     assert np.all(np.isnan(c.Rn[~c.engaged])) and np.all(np.isnan(c.slip_path[~c.engaged]))
     assert np.all(np.diff(c.slip_path[e]) >= 0) and c.slip_path[e][0] == 0.0
-    assert c.slip_path[e][-1] == pytest.approx(c.slip_path_total_trapezoid, rel=1e-12)  # φ0 is a sample
+    assert c.slip_path[e][-1] == pytest.approx(c.slip_path_total, rel=1e-14)  # φ0 is a sample (issue 13, item 11)
     assert c.slip_path_total_trapezoid == pytest.approx(c.slip_path_total, rel=1e-4)
 
 

@@ -355,7 +355,7 @@ def test_geneva_wear_invariant_uses_the_sample_independent_slip_path(n):
     """T_i = π R_n z/(30 |ω1| L_s) with L_s per engagement in m (B8): L_s is the Gauss–Legendre
     total, independent of the sampling. At a coarse sampling (72 samples, 5° apart) the trapezoid
     total differs from it by ~1e-3, so T_i at every engaged sample is checked against L_s from an
-    mpmath quadrature; the trapezoid column ends at its own total."""
+    mpmath quadrature; the slip_path column ends at L_s (issue 13, item 11: it was the trapezoid's)."""
     z, rpm = 6, 300.0 / math.pi
     el = _geneva(z, rpm)
     c = contact(el, n, ContactModel())
@@ -369,7 +369,7 @@ def test_geneva_wear_invariant_uses_the_sample_independent_slip_path(n):
     assert c.wear_invariant_max == pytest.approx(want.max(), rel=1e-10)
     i_in, i_out = _entry_exit(c, el.phi0)
     assert c.slip_path[i_in] == 0.0
-    assert c.slip_path[i_out] == pytest.approx(c.slip_path_total_trapezoid, rel=1e-14)
+    assert c.slip_path[i_out] == pytest.approx(c.slip_path_total, rel=1e-14)   # issue 13, item 11
 
 
 @pytest.mark.parametrize("rpm", [300.0 / math.pi, -137.0])
@@ -391,7 +391,7 @@ def test_geneva_contact_entry_exit_symmetry_without_journal_friction(rpm):
     for name in ("moment", "rolling_ratio"):
         col = getattr(c, name)
         assert np.allclose(col[mirror], -col[e], rtol=1e-12, atol=1e-15), name
-    total = c.slip_path_total_trapezoid
+    total = c.slip_path_total   # the column is Gauss–Legendre per interval (issue 13, item 11)
     assert np.allclose(c.slip_path[e] + c.slip_path[mirror], total, rtol=1e-13, atol=0)
     i0 = e[np.argmin(np.abs(u))]
     assert c.slip_path[i0] == pytest.approx(total / 2, rel=1e-13)
