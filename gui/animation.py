@@ -30,7 +30,7 @@ import numpy as np
 from PySide6.QtCore import QObject, Qt, QTimer, Signal
 from PySide6.QtGui import QAction, QActionGroup, QKeySequence
 
-from .canvas.pose import dead_samples, map_frame, nearest_valid
+from .canvas.pose import dead_samples, input_value_text, map_frame, nearest_valid
 
 TICK_MS = 16
 SPEEDS = (0.1, 0.25, 0.5, 1.0, 2.0, 4.0)
@@ -345,18 +345,18 @@ class AnimationPlayer(QObject):
 
     def _stop(self, f: int, what: str) -> None:
         self.pause()
-        deg = self._input_deg(f)
-        where = f" at input {deg:.1f}°" if deg is not None else ""
+        shown = self._input_text(f)
+        where = f" at input {shown}" if shown is not None else ""
         beyond = " (the linkage cannot be assembled beyond it)" if what == "limit" else ""
         msg = f"animation stopped at the {what}{where}{beyond}"
         self.stopped.emit(msg)
         self.controller.message.emit(msg)
 
-    def _input_deg(self, f: int) -> float | None:
+    def _input_text(self, f: int) -> str | None:
+        """The first solved linkage's input at frame ``f`` (degrees, or mm for an actuator)."""
         for lk in self.controller.linkages():
             res = self.controller.result(lk.id)
             if res is not None and res.solution is not None:
                 sol = res.solution
-                k = map_frame(f, self.controller.sample_count(), len(sol))
-                return math.degrees(math.remainder(float(sol.input[k]), 2 * math.pi))
+                return input_value_text(sol, map_frame(f, self.controller.sample_count(), len(sol)))
         return None

@@ -13,12 +13,12 @@ Embedding::
 """
 from __future__ import annotations
 
-import math
-
 import numpy as np
 from PySide6.QtCore import QPointF, QRectF, QSize, Qt
 from PySide6.QtGui import QColor, QMouseEvent, QPainter, QPen, QPolygonF
 from PySide6.QtWidgets import QComboBox, QHBoxLayout, QLabel, QSizePolicy, QToolButton, QToolTip, QWidget
+
+from mechsketch.core.model.drivers import input_text
 
 from .animation import SPEEDS, AnimationPlayer
 from .canvas.pose import dead_samples, walk_to
@@ -68,7 +68,7 @@ class ScrubTrack(QWidget):
             for d, k in zip(res.diagnostics.dead_points, samples):
                 g = k if m == n else int(round(k * n / m)) % n
                 what = "limit" if d.kind == "limit" else "dead point"
-                dead.append((g, f"{lk.id}: {what} at {math.degrees(d.input):.2f}° ({d.group})"))
+                dead.append((g, f"{lk.id}: {what} at {input_text(d.input, d.unit, 2)} ({d.group})"))
         return n, valid, dead
 
     def x_of(self, k: int, n: int) -> float:

@@ -27,11 +27,13 @@ import cmath
 import math
 from dataclasses import dataclass
 
-from ..errors import EditError, UnknownIdError
+from ..errors import EditError, GeometryError, UnknownIdError
 from ..model.edits import Edit, ReplaceElement
+from ..model.limits import MAX_ANGLE_DEG, MAX_LENGTH_MM
 from ..model.linkage import JointKind, Linkage
 from ..model.scene import Scene
 from .assembly import Shape, reassemble, shapes
+from .plan import compile_plan
 
 LENGTH, ANGLE, OFFSET, AXIS = "length", "angle", "offset", "axis"
 
@@ -109,6 +111,9 @@ def reshaped(linkage: Linkage, key: str, value: float) -> dict[str, Shape]:
     if not math.isfinite(value):
         raise EditError(f"dimension {key}: the value must be a finite number, got {value}")
     parts = key.split(":")
+    limit, unit = (MAX_ANGLE_DEG, "°") if parts[0] in (ANGLE, AXIS) else (MAX_LENGTH_MM, "mm")
+    if abs(value) > limit:
+        raise EditError(f"dimension {key}: {value:g} {unit} is beyond ±{limit:g} {unit}")
     if len(parts) < 3 or parts[0] not in (LENGTH, ANGLE, OFFSET, AXIS):
         raise EditError(f"{key!r} is not a dimension key (length:LINK:A:B, angle:LINK:A:B:C, offset:LINK:P or "
                         "axis:LINK:P)")
@@ -163,7 +168,12 @@ def set_dimension(linkage: Linkage, key: str, value: float) -> Linkage:
     """``linkage`` with dimension ``key`` set to ``value`` (mm or degrees) and re-assembled at its
     drawn input in its drawn assembly modes; raises :class:`EditError` saying which group cannot
     close and by how much (the linkage is not changed), UnknownIdError for an unknown key."""
-    return reassemble(linkage, reshaped(linkage, key, float(value)))
+    new = reassemble(linkage, reshaped(linkage, key, float(value)))
+    try:
+        compile_plan(new)   # e.g. two joints of a link brought onto one point
+    except GeometryError as exc:
+        raise EditError(f"dimension {key} = {value:g}: {exc}") from None
+    return new
 
 
 @dataclass(frozen=True)

@@ -23,6 +23,7 @@ from PySide6.QtGui import QBrush, QColor, QFont, QPainter, QPainterPath, QPen, Q
 from PySide6.QtWidgets import QGraphicsItem, QStyleOptionGraphicsItem, QWidget
 from pyqtgraph import arrayToQPath
 
+from mechsketch.core.model.drivers import input_text
 from mechsketch.core.model.linkage import JointKind
 
 from .events import XY, Hit
@@ -400,8 +401,8 @@ class TraceItem(_Item):
     def _circle(self, pose: ElementPose, arrays: SolutionArrays, step: float) -> None:
         lk = pose.linkage
         drv = lk.driver
-        if not lk.has_driver or drv.pivot not in lk.joint_ids:
-            return
+        if not lk.has_driver or drv.pivot not in lk.joint_ids or drv.kind != "crank":
+            return   # the crank's circle (an actuator has none: its input is a length)
         tip = next((j for j in lk.link(drv.link).joints if j != drv.pivot), None)
         if tip is None:
             return
@@ -457,7 +458,8 @@ class DeadPointItem(_Item):
         if arrays is not None and diag is not None:
             groups = {g.name: g for g in arrays.solution.groups}
             lk = pose.linkage
-            tip = next((j for j in lk.link(lk.driver.link).joints if j != lk.driver.pivot), None)
+            tip = (next((j for j in lk.link(lk.driver.link).joints if j != lk.driver.pivot), None)
+                   if lk.driver.kind == "crank" else None)
             for d, k in zip(diag.dead_points, arrays.dead):
                 g = groups.get(d.group)
                 if g is None or not arrays.valid[k]:
@@ -465,9 +467,9 @@ class DeadPointItem(_Item):
                 pts = [tuple(arrays.pos[j][k]) for j in (g.outer_i, g.inner, g.outer_j)]
                 if tip is not None:
                     pts = [tuple(arrays.pos[lk.driver.pivot][k]), tuple(arrays.pos[tip][k]), None] + pts
-                deg = math.degrees(d.input)
                 what = "limit" if d.kind == "limit" else "dead point"
-                self.marks.append(DeadMark(pts, tuple(arrays.pos[g.inner][k]), f"{what} {deg:.1f}°",
+                self.marks.append(DeadMark(pts, tuple(arrays.pos[g.inner][k]),
+                                           f"{what} {input_text(d.input, d.unit, 1)}",
                                            d.kind == "limit"))
         self._bounds(_rect_of([p for m in self.marks for p in m.ghost if p is not None]))
 

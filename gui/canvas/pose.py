@@ -22,6 +22,7 @@ from typing import Iterable
 
 import numpy as np
 
+from mechsketch.core.model.drivers import input_text
 from mechsketch.core.model.linkage import Joint, JointKind, Linkage
 from mechsketch.core.solver.plan import Solution
 
@@ -109,14 +110,30 @@ class SolutionArrays:
         return (float(allp[:, 0].min()), float(allp[:, 1].min()), float(allp[:, 0].max()), float(allp[:, 1].max()))
 
 
+def input_value_text(sol: Solution, k: int, digits: int = 1) -> str:
+    """The input at sample ``k`` as read by a person: a crank angle in degrees within ±180°, an
+    actuator's length or displacement in mm."""
+    unit = sol.plan.input_unit
+    v = float(sol.input[k])
+    return input_text(v if unit == "mm" else math.remainder(v, 2 * math.pi), unit, digits)
+
+
 def dead_samples(sol: Solution, valid: np.ndarray, inputs: Iterable[float]) -> list[int]:
-    """For each driver input (rad, the sweep's unwrapped convention), the nearest valid sample."""
+    """For each driver input (rad, the sweep's unwrapped convention; mm for an actuator), the
+    nearest valid sample. A constant-speed crank's samples are equally spaced; any other law's
+    are searched (the first sample nearest the input; angles compared modulo a turn)."""
     n = len(sol)
-    inp = sol.input
+    inp = np.asarray(sol.input, dtype=float)
+    drv = sol.plan.linkage.driver
+    uniform = not drv.linear and drv.law.is_constant
     step = float(inp[1] - inp[0]) if n > 1 else 1.0
     out = []
     for x in inputs:
-        k = int(round((x - float(inp[0])) / step)) % n
+        if uniform:
+            k = int(round((x - float(inp[0])) / step)) % n
+        else:
+            d = inp - x if drv.linear else np.remainder(inp - x + np.pi, 2 * np.pi) - np.pi
+            k = int(np.argmin(np.abs(d)))
         near = nearest_valid(valid, k)
         out.append(k if near is None else near)
     return out
@@ -205,8 +222,8 @@ class PoseCache:
                 k = map_frame(frame, total, arrays.n)
                 pose = sample_pose(arrays, el, k)
                 if pose is None:
-                    deg = math.degrees(math.remainder(float(arrays.solution.input[k]), 2 * math.pi))
-                    note = f"cannot be assembled at input {deg:.1f}° - showing the drawn pose"
+                    note = (f"cannot be assembled at input {input_value_text(arrays.solution, k)} - showing "
+                            "the drawn pose")
             if pose is None:
                 pose = drawn_pose(el, note)
                 pose.arrays = arrays

@@ -75,11 +75,17 @@ class SelectTool(Tool):
             self._mode = "rubber"
         elif h.kind == "joint":
             self._mode = "joint"
-        elif h.id == self.ctx.linkage(h.element).driver.link and self.ctx.controller.result(h.element) \
+        elif self._turns_input(h) and self.ctx.controller.result(h.element) \
                 and self.ctx.controller.result(h.element).solution is not None:
             self._mode = "input"
         else:
             self._mode = "link"
+
+    def _turns_input(self, h) -> bool:
+        """Dragging link ``h`` turns the input: the driver is a crank at constant speed (its samples
+        are equally spaced angles); an actuator's or a law-driven crank's link drags like any link."""
+        drv = self.ctx.linkage(h.element).driver
+        return h.id == drv.link and drv.kind == "crank" and drv.law.is_constant
 
     def on_move(self, ev: CanvasEvent) -> None:
         p = self._press

@@ -65,13 +65,13 @@ def grid_steps(px: float) -> tuple[float, float]:
 
 
 def default_traced(linkage: Linkage) -> set[str]:
-    """Coupler points: revolute joints carried by exactly one link that is neither the frame nor
-    the driver. Their paths are traced unless the user switches them off."""
+    """Coupler points: revolute joints carried by exactly one link other than the frame (a point
+    on a coupler, a rocker or the crank itself). Their paths are traced unless the user switches
+    them off."""
     out = set()
     for j in linkage.joints:
         carriers = linkage.links_of(j.id)
-        if (j.kind is JointKind.R and len(carriers) == 1
-                and carriers[0] not in (linkage.ground, linkage.driver.link)):
+        if j.kind is JointKind.R and len(carriers) == 1 and carriers[0] != linkage.ground:
             out.add(j.id)
     return out
 

@@ -1,7 +1,10 @@
 """The properties panel: what is selected, with its numbers editable (every edit is one undo command).
 
 Shows, for the linkage of the selection (or the first linkage): the selected joint's coordinates
-(and a prismatic joint's axis), the selected link's lengths, the driver's speed and direction, and
+(and a prismatic joint's axis), the selected link's dimensions (lengths, angles, slide-axis
+offsets: every link, the ground's and a ternary link's included), what drives the linkage (crank,
+cylinder or slider; motion law, speed, direction or stroke; "Drive this…" on a selected link or
+prismatic joint that can be the input), the table of every dimension (:mod:`.linkage_dims`), and
 each Assur group's assembly mode with a Flip button. A selected Geneva drive or rolling lever
 (or the only element of a scene without linkages) shows its own fields instead
 (:mod:`.geneva_panel`, :mod:`.rolling_panel`). A selector at the top lets the user pick a
@@ -18,13 +21,14 @@ from PySide6.QtCore import Qt
 from PySide6.QtWidgets import (QComboBox, QFormLayout, QFrame, QGroupBox, QHBoxLayout, QLabel, QLineEdit,
                                QScrollArea, QToolButton, QVBoxLayout, QWidget)
 
-from mechsketch.core import EditError, MechsketchError, MoveJoint, ReplaceElement
-from mechsketch.core.model.linkage import Driver, JointKind, Linkage
+from mechsketch.core import MechsketchError, MoveJoint, ReplaceElement
+from mechsketch.core.model.linkage import JointKind, Linkage
 
 from ..controller import SceneController
 from ..selection import ELEMENT, element_target
 from mechsketch.core.solver.flip import FLIPPABLE, flip_edit
 from .geneva_panel import geneva_boxes
+from .linkage_dims import dimensions_box, drive_button, driver_box, link_dimension_rows
 from .loads_panel import joint_friction_row, link_mass_rows, loads_box
 from .rolling_panel import rolling_boxes
 
@@ -34,24 +38,6 @@ Selection = tuple[str, str, str]
 def fmt(value: float) -> str:
     """A number as shown in an editable field (enough digits to round-trip a typed value)."""
     return f"{value:.6f}".rstrip("0").rstrip(".") if math.isfinite(value) else "nan"
-
-
-def length_edit_moves(linkage: Linkage, link_id: str, length: float) -> tuple[str, tuple[float, float]]:
-    """(joint, new position) that gives binary link ``link_id`` the length ``length`` (mm).
-
-    The joint on the ground (or the driver's pivot) stays; the other one moves along the link.
-    """
-    if not (length > 0.0 and math.isfinite(length)):
-        raise EditError(f"a link length must be a positive number of mm, got {length}")
-    a, b = linkage.link(link_id).joints[:2]
-    ground = set(linkage.link(linkage.ground).joints) | {linkage.driver.pivot}
-    if b in ground and a not in ground:
-        a, b = b, a
-    pa, pb = linkage.joint(a).at, linkage.joint(b).at
-    dx, dy = pb[0] - pa[0], pb[1] - pa[1]
-    d = math.hypot(dx, dy)
-    ux, uy = (dx / d, dy / d) if d > 0 else (1.0, 0.0)
-    return b, (pa[0] + ux * length, pa[1] + uy * length)
 
 
 class PropertiesPanel(QWidget):
@@ -79,6 +65,7 @@ class PropertiesPanel(QWidget):
         self.fields: dict[str, QLineEdit] = {}
         self.flip_buttons: dict[str, QToolButton] = {}
         self.buttons: dict[str, QWidget] = {}    # add/remove buttons of the loads box, by name
+        self.tables: dict[str, QWidget] = {}     # the dimension table
         self.combos: dict[str, QComboBox] = {}   # choice boxes of a Geneva drive / rolling lever
         self.direction: QComboBox | None = None
         self._refreshers: list[Callable[[], None]] = []
@@ -164,6 +151,7 @@ class PropertiesPanel(QWidget):
         self.fields.clear()
         self.flip_buttons.clear()
         self.buttons.clear()
+        self.tables.clear()
         self.combos.clear()
         self.direction = None
         self._refreshers.clear()
@@ -189,9 +177,10 @@ class PropertiesPanel(QWidget):
                 hint = QLabel("Select a joint or a link (on the canvas or above) to edit it.")
                 hint.setWordWrap(True)
                 self._content_layout.addWidget(hint)
-            self._content_layout.addWidget(self._driver_box(lk.id))
-            self._content_layout.addWidget(loads_box(self, lk.id))
+            self._content_layout.addWidget(driver_box(self, lk.id))
             self._content_layout.addWidget(self._modes_box(lk.id))
+            self._content_layout.addWidget(dimensions_box(self, lk.id))
+            self._content_layout.addWidget(loads_box(self, lk.id))
         self._content_layout.addStretch(1)
 
     def _elements_box(self) -> QGroupBox:
@@ -299,6 +288,7 @@ class PropertiesPanel(QWidget):
             form.addRow("slide axis", self._row(edit, "°"))
         form.addRow("links", QLabel(", ".join(self._lk(eid).links_of(jid)) or "none"))
         joint_friction_row(self, form, eid, jid)
+        drive_button(self, form, eid, "joint", jid)
         return box
 
     def _link_box(self, eid: str, kid: str) -> QGroupBox:
@@ -308,68 +298,11 @@ class PropertiesPanel(QWidget):
         box = QGroupBox(f"Link {kid}{role}")
         form = QFormLayout(box)
         form.addRow("joints", QLabel(", ".join(link.joints)))
-        binary = len(link.joints) == 2 and kid != lk.ground
-        for k, a in enumerate(link.joints):
-            for b in link.joints[k + 1:]:
-                def read(a: str = a, b: str = b) -> float:
-                    la = self._lk(eid)
-                    pa, pb = la.joint(a).at, la.joint(b).at
-                    return math.hypot(pb[0] - pa[0], pb[1] - pa[1])
-                if binary:
-                    def write(v: float) -> None:
-                        jid, at = length_edit_moves(self._lk(eid), kid, v)
-                        self.controller.push(MoveJoint(eid, jid, at), f"set length of {kid}")
-                    edit = self._field(f"length:{a}-{b}", read, write)
-                    edit.setToolTip("Moves the joint away from the ground along the link; "
-                                    "the other links keep their drawn joints.")
-                    form.addRow(f"{a}–{b}", self._row(edit, "mm"))
-                else:
-                    label = QLabel()
-                    self._refreshers.append(lambda label=label, read=read: label.setText(f"{read():.4f} mm"))
-                    form.addRow(f"{a}–{b}", label)
+        link_dimension_rows(self, form, eid, kid)
+        drive_button(self, form, eid, "link", kid)
         if kid != lk.ground:
             link_mass_rows(self, form, eid, kid)
         return box
-
-    def _driver_box(self, eid: str) -> QGroupBox:
-        lk = self._lk(eid)
-        box = QGroupBox(f"Driver: {lk.driver.link} about {lk.driver.pivot} ({eid})")
-        form = QFormLayout(box)
-
-        def write_speed(v: float) -> None:
-            if v <= 0:
-                raise EditError("the speed must be positive (choose the direction below)")
-            d = self._lk(eid).driver
-            sign = 1.0 if d.speed_rpm > 0 else -1.0
-            self._push_driver(eid, replace(d, speed_rpm=sign * v), "set driver speed")
-        speed = self._field("speed", lambda: abs(self._lk(eid).driver.speed_rpm), write_speed)
-        form.addRow("speed", self._row(speed, "rpm"))
-        omega = QLabel()
-        self._refreshers.append(lambda: omega.setText(f"{abs(self._lk(eid).driver.omega):.6g} rad/s"))
-        form.addRow("", omega)
-        direction = QComboBox()
-        direction.setObjectName("direction")
-        direction.addItems(["CCW", "CW"])
-        direction.setToolTip("turning sense of the driver: counter-clockwise (CCW) or clockwise (CW)")
-        self.direction = direction
-
-        def show_direction() -> None:
-            direction.blockSignals(True)
-            direction.setCurrentIndex(0 if self._lk(eid).driver.speed_rpm > 0 else 1)
-            direction.blockSignals(False)
-
-        def write_direction(index: int) -> None:
-            d = self._lk(eid).driver
-            want = abs(d.speed_rpm) * (1.0 if index == 0 else -1.0)
-            if want != d.speed_rpm:
-                self._push_driver(eid, replace(d, speed_rpm=want), "reverse driver")
-        direction.activated.connect(write_direction)
-        self._refreshers.append(show_direction)
-        form.addRow("direction", direction)
-        return box
-
-    def _push_driver(self, eid: str, driver: Driver, text: str) -> None:
-        self.controller.push(ReplaceElement(self._lk(eid).with_driver(driver), text), text)
 
     def _modes_box(self, eid: str) -> QGroupBox:
         box = QGroupBox("Assembly modes")

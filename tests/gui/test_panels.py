@@ -12,7 +12,6 @@ from mechsketch import resources
 from mechsketch.core import MoveJoint, load_scene
 from mechsketch.core.solver.flip import flip_group, group_modes
 from mechsketch.core.solver.plan import compile_plan
-from mechsketch.gui.panels.properties import length_edit_moves
 
 from app_fakes import shell  # noqa: F401 - fixture
 from app_fakes import type_into as _type
@@ -54,33 +53,64 @@ def test_the_selector_selects_without_the_canvas(shell):
     assert props.selector.currentText() == "fourbar: link rocker"
 
 
-def test_link_length_moves_the_far_joint_along_the_link(shell, qtbot):
+def test_a_link_length_is_a_dimension_edit_the_others_are_kept(shell, qtbot):
+    """Typing the crank's length re-assembles the linkage: the crank keeps its angle, the coupler
+    and the rocker keep their lengths (the old edit moved one joint and changed the coupler)."""
     parts = shell()
     c, props = parts.controller, parts.window.properties
     c.set_selection([("fourbar", "link", "crank")])
     field = props.fields["length:A-B"]
     assert float(field.text()) == pytest.approx(40.0)
+    before = c.scene.element("fourbar")
     _type(qtbot, field, "50")
     lk = c.scene.element("fourbar")
     assert lk.joint("A").at == (0.0, 0.0)
-    assert math.hypot(*lk.joint("B").at) == pytest.approx(50.0)
+    assert math.hypot(*lk.joint("B").at) == pytest.approx(50.0, abs=1e-12)
     assert math.degrees(math.atan2(lk.joint("B").at[1], lk.joint("B").at[0])) == pytest.approx(60.0)
-    assert c.undo_stack.undoText() == "set length of crank"
-    jid, at = length_edit_moves(lk, "rocker", 100.0)     # D is on the ground: C moves
-    assert jid == "C"
-    with pytest.raises(ValueError):
-        length_edit_moves(lk, "rocker", -1.0)
+    for a, b in (("B", "C"), ("D", "C"), ("A", "D")):
+        assert math.dist(lk.joint(a).at, lk.joint(b).at) == pytest.approx(math.dist(before.joint(a).at,
+                                                                                    before.joint(b).at), abs=1e-9)
+    assert c.undo_stack.undoText() == "set length A:B"
 
 
-def test_ternary_link_lengths_are_shown_read_only(shell):
+def test_ternary_and_ground_lengths_are_editable(shell, qtbot):
     parts = shell()
-    parts.controller.set_selection([("fourbar", "link", "coupler")])
-    props = parts.window.properties
-    assert not any(k.startswith("length:") for k in props.fields)
-    from PySide6.QtWidgets import QLabel
+    c, props = parts.controller, parts.window.properties
+    eid = "fourbar"
+    c.set_selection([(eid, "link", "ground")])
+    _type(qtbot, props.fields["length:A-D"], "150")
+    lk = c.scene.element(eid)
+    assert math.dist(lk.joint("A").at, lk.joint("D").at) == pytest.approx(150.0, abs=1e-9)
+    coupler = next(k for k in lk.links if len(k.joints) == 3)
+    c.set_selection([(eid, "link", coupler.id)])
+    names = [k for k in props.fields if k.startswith(("length:", "angle:"))]
+    assert len(names) == 4   # three sides and the angle at the first joint
+    b, cc, e = coupler.joints
+    _type(qtbot, props.fields[f"length:{b}-{e}"], "70")
+    lk = c.scene.element(eid)
+    assert math.dist(lk.joint(b).at, lk.joint(e).at) == pytest.approx(70.0, abs=1e-9)
 
-    shown = [lab.text() for lab in props._content.findChildren(QLabel)]
-    assert any(t.endswith(" mm") and float(t[:-3]) > 0 for t in shown if t[:1].isdigit())
+
+def test_the_dimension_table_lists_every_length_and_edits_it(shell, qtbot):
+    parts = shell()
+    c, props = parts.controller, parts.window.properties
+    table = props.tables["dimensions"]
+    rows = {table.item(r, 2).data(Qt.ItemDataRole.UserRole): r for r in range(table.rowCount())}
+    assert set(rows) == {"length:ground:A:D", "length:crank:A:B", "length:coupler:B:C", "length:coupler:B:E",
+                         "length:coupler:C:E", "angle:coupler:B:C:E", "length:rocker:D:C"}
+    assert table.item(rows["angle:coupler:B:C:E"], 3).text() == "°"
+    assert table.item(rows["length:rocker:D:C"], 3).text() == "mm"
+    assert float(table.item(rows["length:rocker:D:C"], 2).text()) == pytest.approx(120.0)
+    table.item(rows["length:rocker:D:C"], 2).setText("125")
+    lk = c.scene.element("fourbar")
+    assert math.dist(lk.joint("D").at, lk.joint("C").at) == pytest.approx(125.0, abs=1e-9)
+    assert c.undo_stack.count() == 1
+    table = props.tables["dimensions"]
+    r = {table.item(k, 2).data(Qt.ItemDataRole.UserRole): k for k in range(table.rowCount())}["length:crank:A:B"]
+    table.item(r, 2).setText("400")   # cannot assemble: refused, the cell shows the model again
+    assert "RRR(coupler,rocker)" in parts.window.statusBar().currentMessage()
+    assert float(props.tables["dimensions"].item(r, 2).text()) == pytest.approx(40.0)
+    assert c.undo_stack.count() == 1
 
 
 def test_driver_speed_and_direction(shell, qtbot):
