@@ -118,6 +118,7 @@ class Workspace:
         self._forces: OrderedDict[Hashable, ForceResult] = OrderedDict()
         self._plans: OrderedDict[Linkage, Plan] = OrderedDict()
         self._valid: OrderedDict[Any, bool] = OrderedDict()   # records the scene reader accepts
+        self._remember(self._scene)
         self._structures: OrderedDict[tuple, list] = OrderedDict()   # topology -> Assur groups
         self._preview_base: Scene | None = None
         self._pending: dict[str, ElementChange] = {}
@@ -213,7 +214,17 @@ class Workspace:
         self._pending.clear()
         self._scene = scene
         self._current.clear()
+        self._remember(scene)
         self._notify(Change(tuple((e.id, ElementChange.ADDED) for e in scene.elements), replaced=True))
+
+    def _remember(self, scene: Scene) -> None:
+        """Take the elements of a whole new document as checked: an undo that brings one of them
+        back is never refused (they were read by the scene reader, or given by the API caller)."""
+        for el in scene.elements:
+            try:
+                self._store(self._valid, el, True)
+            except TypeError:
+                pass
 
     # -- drag previews --------------------------------------------------------------------
     @property

@@ -79,3 +79,19 @@ def test_positive_quantities_have_a_smallest_physical_value(key, value, limit):
     with pytest.raises(Exception) as info:
         loads_scene(json.dumps(doc))
     assert f"at least {limit}" in str(info.value) and key in str(info.value), str(info.value)
+
+
+def test_undo_back_to_the_documents_own_elements_is_never_refused():
+    """A scene given by the API (not read from a file) may hold what a file may not; an edit of
+    it and the undo of that edit both land: only values entering from outside are checked."""
+    lk = load_scene(example_path("fourbar_crank_rocker")).element("fourbar")
+    odd = lk.with_joints_moved({"E": (0.0, 5e9)})           # a coupler point beyond ±1e9 mm
+    ws = Workspace(__import__("mechsketch.core.model.scene", fromlist=["Scene"]).Scene((odd,)))
+    with pytest.raises(EditError, match="beyond"):
+        ws.apply(MoveJoint("fourbar", "B", (21.0, 35.0)))   # the result still holds E: refused
+    other = Workspace(load_scene(example_path("fourbar_crank_rocker")))
+    other.reset(ws.scene)                                   # Open/restore-like replacement
+    assert other.scene.element("fourbar") is odd
+    inverse = other.apply(ReplaceElement(lk))               # a valid element replaces it
+    other.apply(inverse)                                    # undo: the document's own element returns
+    assert other.scene.element("fourbar") == odd
