@@ -30,6 +30,24 @@ from .panels.plots import PlotsPanel
 from .panels.properties import PropertiesPanel
 
 
+#: the tool buttons' labels on the toolbar (by action name; tools not listed keep their title)
+TOOL_LABELS = {"tool_select": "Select", "tool_ground": "Pivot", "tool_crank": "Crank", "tool_rrr": "RRR",
+               "tool_rrp": "RRP", "tool_rpr": "RPR", "tool_prp": "PRP", "tool_rpp": "RPP", "tool_coupler": "Point",
+               "tool_geneva": "Geneva", "tool_rolling": "Lever", "tool_measure": "Measure", "tool_delete": "Delete",
+               "tool_insert": "Insert"}
+
+
+def redo_shortcuts() -> list[QKeySequence]:
+    """Redo answers the platform's key and both common ones, Ctrl+Y and Ctrl+Shift+Z: on X11 the
+    standard Redo is Ctrl+Shift+Z only, and the README documents Ctrl+Y."""
+    keys = list(QKeySequence.keyBindings(QKeySequence.StandardKey.Redo))
+    for extra in ("Ctrl+Y", "Ctrl+Shift+Z"):
+        seq = QKeySequence(extra)
+        if seq not in keys:
+            keys.append(seq)
+    return keys
+
+
 #: version of the saved dock layout (bump when the docks change)
 LAYOUT_VERSION = 1
 
@@ -163,7 +181,7 @@ class MainWindow(QMainWindow):
         undo = self.controller.undo_stack.createUndoAction(self, "&Undo")
         undo.setShortcut(QKeySequence(K.Undo))
         redo = self.controller.undo_stack.createRedoAction(self, "&Redo")
-        redo.setShortcut(QKeySequence(K.Redo))
+        redo.setShortcuts(redo_shortcuts())
         self.actions["undo"], self.actions["redo"] = undo, redo
         if self.parts.delete is not None:
             self.actions["delete"] = self.parts.delete
@@ -230,9 +248,15 @@ class MainWindow(QMainWindow):
             bar.addSeparator()
             bar.addAction(a["zoom_fit"])
         if self.parts.tools:
+            self.addToolBarBreak()   # the tools on a row of their own: a 1024 px screen shows them all
             tools = self.addToolBar("Tools")
             tools.setObjectName("toolbar:tools")
             tools.addActions(self.parts.tools)
+            for action in self.parts.tools:   # short labels; the tooltip and the Tools menu say it in full
+                button = tools.widgetForAction(action)
+                short = TOOL_LABELS.get(action.objectName())
+                if button is not None and short:
+                    button.setText(short)
 
     def _fill_recent(self) -> None:
         self.recent_menu.clear()
@@ -376,9 +400,10 @@ class MainWindow(QMainWindow):
             QTimer.singleShot(0, self.size_docks)
 
     def size_docks(self) -> None:
-        """Share the width between the docks and the canvas (about 1 : 2.4 : 1.6)."""
-        side = max(290, min(340, self.width() // 5))
-        plots = max(420, min(560, self.width() * 3 // 10))
+        """Share the width between the docks and the canvas (about 1 : 2.4 : 1.6); on a small
+        screen (1024 px) the properties keep the 300 px their rows need and the plots give way."""
+        side = max(300, min(340, self.width() // 5))
+        plots = max(250, min(560, self.width() * 3 // 10))
         self.resizeDocks([self.docks["properties"], self.docks["plots"]], [side, plots],
                          Qt.Orientation.Horizontal)
         self.resizeDocks([self.docks["properties"], self.docks["diagnostics"]],

@@ -40,7 +40,7 @@ class ScrubTrack(QWidget):
         self.player = player
         self._dragging = False
         self.setMinimumHeight(30)
-        self.setMinimumWidth(160)
+        self.setMinimumWidth(80)
         self.setMouseTracking(True)
         self.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Fixed)
         controller.changed.connect(self._on_changed)
@@ -174,6 +174,9 @@ class ScrubBar(QWidget):
         self.dead_box.setCurrentIndex(1 if player.dead_point_behaviour == "reverse" else 0)
         self.dead_box.currentIndexChanged.connect(
             lambda i: player.set_dead_point_behaviour(self.dead_box.itemData(i)))
+        for box in (self.speed_box, self.dead_box):   # they shrink on a small screen (1024 px)
+            box.setSizeAdjustPolicy(QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
+            box.setMinimumContentsLength(4)
         self.readout = QLabel(self)
         # the read-out gives way when the window is narrow (the status bar repeats it in full), so
         # the scrub bar never squeezes the docks

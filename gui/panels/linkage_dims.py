@@ -161,6 +161,7 @@ def driver_box(panel, eid: str) -> QGroupBox:
     speed.setToolTip("cycles per minute: crank revolutions, or actuator strokes out and back")
     form.addRow("speed", panel.row(speed, "rpm" if d.kind is DriverKind.CRANK else "cycles/min"))
     period = QLabel()
+    period.setWordWrap(True)
     panel.add_refresher(lambda: period.setText(f"{drv().period:.6g} s per cycle, {abs(drv().omega):.6g} rad/s"))
     form.addRow("", period)
     if d.kind is DriverKind.CRANK:

@@ -21,7 +21,7 @@ import math
 from dataclasses import replace
 from typing import Callable
 
-from PySide6.QtWidgets import QFormLayout, QGroupBox, QHBoxLayout, QLabel, QPushButton, QWidget
+from PySide6.QtWidgets import QFormLayout, QGridLayout, QGroupBox, QHBoxLayout, QLabel, QPushButton, QWidget
 
 from mechsketch.core import EditError, ReplaceElement
 from mechsketch.core.model.linkage import JointKind, Linkage
@@ -154,15 +154,15 @@ def loads_box(panel, eid: str) -> QGroupBox:
     for ld in lk().loads:
         _load_rows(panel, form, eid, ld.id)
     buttons = QWidget()
-    h = QHBoxLayout(buttons)
+    h = QGridLayout(buttons)   # two by two: the dock fits a 1024 px screen
     h.setContentsMargins(0, 0, 0, 0)
-    for kind in ("force", "torque", "spring", "damper"):
+    for k, kind in enumerate(("force", "torque", "spring", "damper")):
         b = QPushButton(f"+ {kind}")
         b.setObjectName(f"add_{kind}")
         b.setToolTip(f"add a {kind} to the selected link (else the last moving link); one undo step")
         b.clicked.connect(lambda _=False, k=kind: add_load(panel, eid, k))
         panel.buttons[f"add_{kind}"] = b
-        h.addWidget(b)
+        h.addWidget(b, k // 2, k % 2)
     form.addRow(buttons)
     hint = QLabel("Forces in N, torques in N·m (CCW +), points drawn in mm; drag a load's ◇ on the canvas to move it.")
     hint.setWordWrap(True)

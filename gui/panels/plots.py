@@ -226,10 +226,15 @@ class PlotsPanel(LazyRefresh, QWidget):
         self.plots[rows[-1][0]].setLabel("bottom", x_label)
 
     def add_header_actions(self, actions) -> None:
-        """Put buttons for ``actions`` (e.g. Export PNG / CSV) next to the title."""
+        """Put buttons for ``actions`` (e.g. Export PNG / CSV) next to the title, labelled short
+        ("PNG…", "CSV…": the menu and the tooltip give the full text) so the dock fits a small screen."""
         for action in actions:
             button = QToolButton()
             button.setDefaultAction(action)
+            short = "PNG…" if "PNG" in action.text() else "CSV…" if "CSV" in action.text() else None
+            if short:
+                button.setText(short)
+                button.setToolTip(action.text().replace("&", ""))
             self._header.addWidget(button)
 
     # -- updating ----------------------------------------------------------------------------

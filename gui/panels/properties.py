@@ -54,7 +54,7 @@ class PropertiesPanel(QWidget):
         self._content_layout.setContentsMargins(0, 0, 0, 0)
         scroll = QScrollArea()
         scroll.setWidgetResizable(True)
-        scroll.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
+        scroll.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAsNeeded)   # never hide a control
         scroll.setFrameShape(QFrame.Shape.NoFrame)
         scroll.setWidget(self._content)
         layout = QVBoxLayout(self)
