@@ -22,8 +22,8 @@ from .model.scene import Scene
 __all__ = [
     "AddElement", "Driver", "EditError", "ElementView", "ExportError", "GeometryError", "Joint",
     "JointKind", "Link", "Linkage", "MechsketchError", "MoveJoint", "MoveJoints", "Problem", "RemoveElement",
-    "ReplaceElement", "RequestError", "Scene", "SceneFormatError", "StructureError", "UnknownIdError",
-    "Workspace", "dumps_scene", "load_scene", "loads_scene", "save_scene", "validate_file",
+    "ReplaceElement", "RequestError", "Scene", "SceneFormatError", "SetDimension", "StructureError",
+    "UnknownIdError", "Workspace", "dumps_scene", "load_scene", "loads_scene", "save_scene", "validate_file",
 ]
 
 
@@ -34,4 +34,8 @@ def __getattr__(name: str):
         from . import workspace
 
         return getattr(workspace, name)
+    if name == "SetDimension":   # the dimension edit: it re-assembles through the solver
+        from .solver.dimensions import SetDimension
+
+        return SetDimension
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
