@@ -247,6 +247,9 @@ class PlotsPanel(LazyRefresh, QWidget):
         if data.rows != self._rows:  # another kind of element: other stacked plots
             self._build_rows(data.rows, data.x_label)
             self._keys = None
+        bottom = self.plots[data.rows[-1][0]]
+        if bottom.getAxis("bottom").labelText != data.x_label:   # a crank's angle or an actuator's mm
+            bottom.setLabel("bottom", data.x_label)
         if keys != self._keys:  # other curves: rebuild them (and the legends)
             self._keys = keys
             for plot in self.plots.values():

@@ -99,3 +99,17 @@ def test_any_link_cylinder_or_slider_becomes_the_input_in_one_click(shell, qtbot
     assert res.error is None and res.solution.valid[0]
     parts.window.actions["undo"].trigger()
     assert c.scene.element(lk.id) == lk
+
+
+def test_the_plots_x_axis_says_what_the_input_is(shell, qtbot):
+    parts, c, _ = open_example(shell, "fourbar_crank_rocker")
+    plots = parts.window.plots
+    plots.refresh()
+    bottom = lambda: plots.plots["transmission"].getAxis("bottom").labelText   # noqa: E731
+    assert bottom() == "input angle (°)"
+    parts.window.actions["example:excavator_arm"].trigger()
+    plots.refresh()
+    assert bottom() == "input: cylinder length (mm)"
+    parts.window.actions["example:v_engine"].trigger()
+    plots.refresh()
+    assert bottom() == "input angle (°)"
