@@ -320,11 +320,19 @@ def pick(poses: Iterable[ElementPose], pos: XY, tol: float) -> Hit | None:
 
 # -- editing at a frame ---------------------------------------------------------------------
 
+def shows_drawn(arrays: SolutionArrays, k: int | None) -> bool:
+    """Sample ``k`` is the drawn pose: sample 0 of a sweep that starts at the drawn input (a crank;
+    an actuator whose stroke starts at its drawn length or place)."""
+    sol = arrays.solution
+    return k == 0 and float(sol.input[0]) == sol.plan.theta0
+
+
 def rebase(linkage: Linkage, arrays: SolutionArrays, k: int) -> Linkage:
     """The same mechanism drawn at sample ``k``: every joint at its position there, slider axes
     turned with their links. Lengths, assembly modes and the driver are unchanged; only the drawn
-    input angle moves. Returns ``linkage`` itself if sample ``k`` is not assemblable or is 0."""
-    if k == 0 or not (0 <= k < arrays.n) or not arrays.valid[k]:
+    input moves (a slider driver's stroke, counted from its drawn place, moves with it). Returns
+    ``linkage`` itself if sample ``k`` is not assemblable or shows the drawn pose."""
+    if shows_drawn(arrays, k) or not (0 <= k < arrays.n) or not arrays.valid[k]:
         return linkage
     joints = []
     for j in linkage.joints:
@@ -335,12 +343,19 @@ def rebase(linkage: Linkage, arrays: SolutionArrays, k: int) -> Linkage:
         if j.kind is JointKind.P:
             axis = math.remainder(float(arrays.axis[j.id][k]), 360.0)
         joints.append(replace(j, at=(float(p[0]), float(p[1])), axis_deg=axis))
-    return replace(linkage, joints=tuple(joints))
+    drv = linkage.driver
+    if drv.kind == "slider" and drv.stroke is not None:   # its input is measured from the drawn place
+        s = float(arrays.solution.input[k])
+        law = drv.law
+        if law.points:
+            law = replace(law, points=tuple((t, v - s) for t, v in law.points))
+        drv = replace(drv, stroke=(drv.stroke[0] - s, drv.stroke[1] - s), law=law)
+    return replace(linkage, joints=tuple(joints), driver=drv)
 
 
 def to_drawn(arrays: SolutionArrays | None, linkage: Linkage, link_id: str, k: int | None, p: XY) -> XY:
     """The drawn-pose position of the point of ``link_id`` shown at ``p`` at sample ``k``."""
-    if arrays is None or k is None or k == 0 or link_id == linkage.ground:
+    if arrays is None or k is None or shows_drawn(arrays, k) or link_id == linkage.ground:
         return p
     sol = arrays.solution
     anchor = next((j for j in linkage.link(link_id).joints if linkage.joint(j).kind is JointKind.R), None)

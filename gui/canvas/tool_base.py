@@ -16,7 +16,7 @@ from mechsketch.core.model.linkage import JointKind, Linkage
 from . import ops
 from .events import XY, CanvasEvent, Hit
 from .items import Overlay, short_error
-from .pose import ElementPose, PoseCache, pick, rebase
+from .pose import ElementPose, PoseCache, pick, rebase, shows_drawn
 
 DRAG_START = 0.4   # of the pick tolerance: how far the mouse moves before a press becomes a drag
 
@@ -62,7 +62,7 @@ class ToolContext:
         it was rebased."""
         lk = self.linkage(element_id)
         pose = self.pose(element_id)
-        if pose is None or pose.arrays is None or pose.index in (None, 0):
+        if pose is None or pose.arrays is None or pose.index is None or shows_drawn(pose.arrays, pose.index):
             return lk, False
         new = rebase(lk, pose.arrays, pose.index)
         return new, new is not lk

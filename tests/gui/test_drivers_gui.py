@@ -113,3 +113,45 @@ def test_the_plots_x_axis_says_what_the_input_is(shell, qtbot):
     parts.window.actions["example:v_engine"].trigger()
     plots.refresh()
     assert bottom() == "input angle (°)"
+
+
+def test_dragging_a_joint_of_the_cylinder_arm_is_one_undo_step(qtbot):
+    """At frame 0 the arm shows the start of the stroke (not the drawn length): a dragged joint
+    lands where the mouse lets go, the cylinder and the rest re-solve, one undo step."""
+    from PySide6.QtCore import QRectF
+
+    from canvas_user import example, make_view
+    ctl, view, user = make_view(qtbot, example("excavator_arm"), QRectF(-500, -800, 4200, 2400))
+    view.snap_enabled = False
+    sol = ctl.result("arm").solution
+    k0 = tuple(sol.position("K")[0])
+    target = (k0[0] + 150.0, k0[1] - 100.0)
+    user.drag(k0, target)
+    assert ctl.undo_stack.count() == 1
+    res = ctl.result("arm")
+    assert res.error is None and res.solution.valid.all()
+    got = res.solution.position("K")[ctl.frame]
+    assert abs(got[0] - target[0]) < 5.0 and abs(got[1] - target[1]) < 5.0   # within a few pixels
+    assert res.element.joint("C1").at == (800.0, -550.0)   # the frame pivot did not move
+
+
+def test_rebasing_a_slider_driven_linkage_keeps_its_motion():
+    """Drawn again at a sample (what a drag at that frame does), a slider driver's stroke, counted
+    from its drawn place, moves with it: the rebased linkage sweeps the same poses."""
+    import sys
+    from pathlib import Path
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "core"))
+    import drive_builders as DB
+    from mechsketch.core.solver.plan import compile_plan
+    from mechsketch.gui.canvas.pose import SolutionArrays, rebase, shows_drawn
+
+    lk = DB.pushed_crank(kind="cycloidal", stroke=(-20.0, 15.0))
+    sol = compile_plan(lk).sweep(120)
+    arrays = SolutionArrays(lk, sol, [])
+    assert not shows_drawn(arrays, 0)   # the stroke starts 20 mm before the drawn place
+    new = rebase(lk, arrays, 0)
+    assert new.driver.stroke == (0.0, 35.0)
+    again = compile_plan(new).sweep(120)
+    for j in ("B", "C", "T"):
+        assert np.allclose(again.position(j), sol.position(j), rtol=0, atol=1e-9)
+    assert shows_drawn(SolutionArrays(new, again, []), 0)
