@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import GeometryError
+from ..errors import GeometryError, RequestError
 from ..model.drivers import LawKind, MotionLaw
 from ..model.linkage import Driver
 
@@ -147,6 +147,9 @@ def at_times(driver: Driver, input0: float, t) -> InputMotion:
     crank's drawn angle, rad; unused by an actuator, whose stroke is absolute)."""
     t = np.asarray(t, dtype=float)
     T = driver.period
+    if not (math.isfinite(T) and T > 0.0):
+        raise RequestError(f"driver {driver.link!r}: a cycle of {T:g} s (speed {driver.speed_rpm:g} rpm) has no "
+                           "motion law; give a speed from 0.001 to 100,000 cycles per minute")
     tau = t / T
     law = driver.law
     if not driver.linear:

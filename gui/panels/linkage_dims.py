@@ -134,10 +134,12 @@ def _push_driver(panel, eid: str, driver: Driver, text: str) -> bool:
     """Replace the driver as one undo command, after the workspace solved the new linkage."""
     lk = panel.controller.scene.element(eid)
     new = lk.with_driver(driver)
+    edit = ReplaceElement(new, text)
+    panel.controller.workspace.check(edit)   # read as a file would be: the speed's range, the stroke
     problem = panel.controller.check_element(new)
     if problem is not None:
         raise EditError(problem)
-    return panel.controller.push(ReplaceElement(new, text), text)
+    return panel.controller.push(edit, text)
 
 
 def driver_box(panel, eid: str) -> QGroupBox:
