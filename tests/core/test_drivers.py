@@ -169,18 +169,23 @@ def test_the_sweep_follows_the_law_with_its_closed_form_rates():
     assert np.max(np.abs(sol.alpha("crank") - m.qdd)) == 0.0
 
 
-def test_a_workspace_resweeps_an_actuated_linkage_bit_for_bit():
+@pytest.mark.parametrize("make,eid,moves", [
+    (DB.excavator, "arm", (("K", (3000.0, 100.0), True), ("C1", (810.0, -560.0), False))),
+    (lambda: DB.crank_with_point(kind="cycloidal"), "fourbar", (("D", (165.0, 2.0), True), ("T", (8.0, 40.0), True))),
+], ids=["cylinder", "crank with a law"])
+def test_a_workspace_resweeps_an_actuated_linkage_bit_for_bit(make, eid, moves):
     """Moving the bucket tip re-runs only the stick's group; moving a cylinder pivot changes the
-    drawn length: a full solve. Both equal a full solve of the moved linkage bit for bit."""
-    lk = DB.excavator()
+    drawn length: a full solve. A law-driven crank re-sweeps with the law's rates and accelerations.
+    Each equals a full solve of the moved linkage bit for bit."""
+    from mechsketch.core import ReplaceElement
+    lk = make()
     ws = Workspace(Scene((lk,)))
-    ws.result("arm")
-    for joint, at, incremental in (("K", (3000.0, 100.0), True), ("C1", (810.0, -560.0), False)):
+    ws.result(eid)
+    for joint, at, incremental in moves:
         before = ws.stats["incremental"]
-        moved = ws.element("arm").with_joint_moved(joint, at)
-        from mechsketch.core import ReplaceElement
+        moved = ws.element(eid).with_joint_moved(joint, at)
         ws.apply(ReplaceElement(moved))
-        res = ws.result("arm")
+        res = ws.result(eid)
         assert (ws.stats["incremental"] > before) is incremental
         full = compile_plan(moved).sweep(moved.samples)
         for j in moved.joint_ids:
