@@ -22,7 +22,7 @@ from dataclasses import replace
 
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import (QAbstractItemView, QComboBox, QFormLayout, QGroupBox, QHeaderView, QLabel,
-                               QTableWidget, QTableWidgetItem, QToolButton)
+                               QLineEdit, QTableWidget, QTableWidgetItem, QToolButton)
 
 from mechsketch.core import EditError, MechsketchError, ReplaceElement
 from mechsketch.core.model.drivers import DriverKind, LawKind, MotionLaw
@@ -204,8 +204,7 @@ def driver_box(panel, eid: str) -> QGroupBox:
             form.addRow(label, panel.row(edit, "mm"))
     law = QComboBox()
     law.setObjectName("law")
-    options = list(LAWS) + ([("table (spline)", LawKind.TABLE)] if d.law.kind is LawKind.TABLE else [])
-    for text, kind in options:
+    for text, kind in LAWS + (("table (spline)", LawKind.TABLE),):
         law.addItem(text, kind)
     law.setToolTip("how the input moves over a cycle; velocities and accelerations follow the law's closed form")
     panel.combos["law"] = law
@@ -218,15 +217,69 @@ def driver_box(panel, eid: str) -> QGroupBox:
     def write_law(index: int) -> None:
         kind = LawKind(law.itemData(index))
         if kind != drv().law.kind:
+            new = MotionLaw(kind, default_table(drv()) if kind is LawKind.TABLE else ())
             try:
-                _push_driver(panel, eid, replace(drv(), law=MotionLaw(kind)), f"motion law {kind.value}")
+                _push_driver(panel, eid, replace(drv(), law=new), f"motion law {kind.value}")
             except MechsketchError as exc:
                 ctl.message.emit(f"cannot set the motion law: {exc}")
         show_law()
     law.activated.connect(write_law)
     panel.add_refresher(show_law)
     form.addRow("motion law", law)
+    if d.law.kind is LawKind.TABLE:
+        form.addRow("table", table_field(panel, eid, drv))
     return box
+
+
+def default_table(d: Driver) -> tuple[tuple[float, float], ...]:
+    """A first table law to edit: a crank's turn slowed in its middle (degrees from the drawn
+    angle), an actuator's stroke out and back with a pause at its end (mm)."""
+    if d.linear and d.stroke is not None:
+        lo, hi = d.stroke
+        return ((0.0, lo), (0.4, hi), (0.6, hi), (1.0, lo))
+    return ((0.0, 0.0), (0.3, 150.0), (0.7, 210.0), (1.0, 360.0))
+
+
+def points_text(points) -> str:
+    """A table law's points as typed in the field: ``τ value; τ value; …``."""
+    return "; ".join(f"{t:g} {v:g}" for t, v in points)
+
+
+def table_field(panel, eid: str, drv) -> QLineEdit:
+    """The table law's points, editable as ``τ value; τ value; …`` (τ: the fraction of the cycle;
+    value: degrees from the drawn angle for a crank, mm for an actuator)."""
+    edit = QLineEdit()
+    edit.setObjectName("law.points")
+    edit.setToolTip("cycle fraction and value per point, separated by ';' (a crank: degrees from its drawn angle, "
+                    "a last point at 1 may add whole turns; an actuator: mm). A periodic cubic spline passes "
+                    "through them.")
+    panel.fields["law.points"] = edit
+
+    def show() -> None:
+        if not (edit.hasFocus() and edit.isModified()):
+            edit.setText(points_text(drv().law.points))
+            edit.setModified(False)
+
+    def commit() -> None:
+        text = edit.text().strip()
+        if text != points_text(drv().law.points):
+            try:
+                points = tuple(tuple(float(x) for x in item.split()) for item in text.split(";") if item.strip())
+                if any(len(p) != 2 for p in points):
+                    raise ValueError
+            except ValueError:
+                panel.controller.message.emit(f"table: {text!r} is not 'τ value; τ value; …'")
+            else:
+                try:
+                    _push_driver(panel, eid, replace(drv(), law=MotionLaw(LawKind.TABLE, points)), "set law table")
+                except MechsketchError as exc:
+                    panel.controller.message.emit(f"table: {exc}")
+        edit.setModified(False)
+        show()
+
+    edit.editingFinished.connect(commit)
+    panel.add_refresher(show)
+    return edit
 
 
 #: strokes tried for a new actuator, as fractions of its length (a cylinder) or of the linkage's size

@@ -109,7 +109,8 @@ class PropertiesPanel(QWidget):
         if res is not None and res.plan is not None:
             groups = tuple(s.group.name for s in res.plan.steps)
         return (lk.id, lk.joint_ids, tuple((k.id, k.joints) for k in lk.links), lk.ground,
-                lk.driver.link, self.selected(), groups, tuple(j.kind for j in lk.joints), lk.load_ids)
+                lk.driver.link, lk.driver.kind, lk.driver.law.kind, self.selected(), groups,
+                tuple(j.kind for j in lk.joints), lk.load_ids)
 
     def refresh(self, *_args) -> None:
         """Rebuild the panel if what it shows changed shape; else update the values in place."""

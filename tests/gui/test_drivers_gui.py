@@ -155,3 +155,23 @@ def test_rebasing_a_slider_driven_linkage_keeps_its_motion():
     for j in ("B", "C", "T"):
         assert np.allclose(again.position(j), sol.position(j), rtol=0, atol=1e-9)
     assert shows_drawn(SolutionArrays(new, again, []), 0)
+
+
+def test_a_table_law_is_chosen_and_typed_in_the_driver_box(shell, qtbot):
+    parts, c, _ = open_example(shell, "excavator_arm")
+    props = parts.window.properties
+    law = props.combos["law"]
+    law.setCurrentIndex(law.findData(LawKind.TABLE))
+    law.activated.emit(law.currentIndex())
+    drv = c.scene.element("arm").driver
+    assert drv.law.kind is LawKind.TABLE and drv.law.points[0] == (0.0, 850.0)
+    qtbot.waitUntil(lambda: "law.points" in props.fields, timeout=20000)
+    type_into(qtbot, props.fields["law.points"], "0 900; 0.3 1200; 0.6 1000")
+    drv = c.scene.element("arm").driver
+    assert drv.law.points == ((0.0, 900.0), (0.3, 1200.0), (0.6, 1000.0))
+    sol = c.result("arm").solution
+    assert sol.input[0] == pytest.approx(900.0, abs=1e-9) and sol.valid.all()
+    type_into(qtbot, props.fields["law.points"], "0 900; 0.3")     # not pairs: refused
+    assert c.scene.element("arm").driver.law.points == drv.law.points
+    assert props.fields["law.points"].text() == "0 900; 0.3 1200; 0.6 1000"
+    assert c.undo_stack.count() == 2
