@@ -191,6 +191,7 @@ class PoseCache:
 
     def __init__(self) -> None:
         self._arrays: dict[str, SolutionArrays] = {}
+        self._poses: dict[str, tuple] = {}   # id -> (linkage, result, arrays, frame, total, pose)
 
     def arrays(self, linkage: Linkage, result) -> SolutionArrays | None:
         """Arrays of ``result.solution`` (``result`` a workspace LinkageResult), cached by identity."""
@@ -216,6 +217,11 @@ class PoseCache:
             live.add(el.id)
             res = controller.result(el.id)
             arrays = self.arrays(el, res)
+            hit = self._poses.get(el.id)
+            if (hit is not None and hit[0] is el and hit[1] is res and hit[2] is arrays
+                    and hit[3:5] == (frame, total)):
+                out.append(hit[5])   # an element the last change did not touch: the same pose
+                continue
             pose = None
             note = res.error if res is not None else None
             if arrays is not None:
@@ -227,9 +233,12 @@ class PoseCache:
             if pose is None:
                 pose = drawn_pose(el, note)
                 pose.arrays = arrays
+            self._poses[el.id] = (el, res, arrays, frame, total, pose)
             out.append(pose)
         for gone in set(self._arrays) - live:
             del self._arrays[gone]
+        for gone in set(self._poses) - live:
+            del self._poses[gone]
         return out
 
 
