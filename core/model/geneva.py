@@ -352,6 +352,10 @@ class _Checker:
     def bad(self, where: str, msg: str) -> None:
         self.problems.append(Problem(f"{self.path}.{where}", msg, self.eid))
 
+    def at_least_or_zero(self, where: str, value: float, unit: str) -> None:
+        """A value too small to be physical where 0 is allowed (a denormal load underflows)."""
+        self.bad(where, f"must be 0 or at least {SMALLEST[unit]:g} {unit} in size; got {value:g} {unit}")
+
     def positive(self, where: str, value: float, unit: str) -> bool:
         least = SMALLEST.get(unit, 0.0)
         if value > 0 and value >= least:
@@ -365,8 +369,11 @@ class _Checker:
         return False
 
     def non_negative(self, where: str, value: float, unit: str) -> bool:
-        if value >= 0:
+        if value == 0 or value >= SMALLEST.get(unit, 0.0):
             return True
+        if value > 0:
+            self.at_least_or_zero(where, value, unit)
+            return False
         u = f" {unit}" if unit else ""
         self.bad(where, f"must be >= 0{u}; got {_num(value)}{u} ({_num(-value)}{u} below the limit)")
         return False
@@ -407,6 +414,8 @@ def parse(data: dict[str, Any], path: str) -> tuple[Geneva | None, list[Problem]
         ck.bad("speed_rpm", speed_problem(speed))
     ld = _sub(data, "load", DEFAULT_LOAD)
     ck.non_negative("load.wheel_inertia", ld["wheel_inertia"], "kg·m²")
+    if 0 < abs(ld["external_moment"]) < SMALLEST["N·m"]:
+        ck.at_least_or_zero("load.external_moment", ld["external_moment"], "N·m")
     sizes_ok &= ck.non_negative("load.journal_friction", ld["journal_friction"], "")
     sizes_ok &= ck.non_negative("load.journal_radius", ld["journal_radius"], "mm")
     mats = {}

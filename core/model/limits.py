@@ -9,9 +9,11 @@ from __future__ import annotations
 
 #: positions, lengths, radii, clearances, mm (1,000 km)
 MAX_LENGTH_MM = 1e9
-#: the smallest value of a quantity that must be positive, by unit (a roller 1e-300 mm long would
-#: overflow the contact pressure): lengths 1 nm, moduli 1 kPa, specific wear rates 1e-12
-SMALLEST = {"mm": 1e-6, "MPa": 1e-3, "mm³/(N·m)": 1e-12}
+#: the smallest value of a quantity that must be positive, or of one that may be 0 but is not, by
+#: unit (a roller 1e-300 mm long overflowed the contact pressure; a wheel inertia of 5e-324 kg·m²
+#: made a denormal load whose contact strip underflowed to 0): lengths 1 nm, moduli 1 kPa,
+#: specific wear rates 1e-12, inertias 1e-12 kg·m², moments 1e-12 N·m
+SMALLEST = {"mm": 1e-6, "MPa": 1e-3, "mm³/(N·m)": 1e-12, "kg·m²": 1e-12, "N·m": 1e-12}
 #: driver or crank speed magnitude, rpm: from one turn in about 42 days to a fast spindle
 MIN_RPM = 1e-3
 MAX_RPM = 1e5

@@ -95,3 +95,23 @@ def test_undo_back_to_the_documents_own_elements_is_never_refused():
     inverse = other.apply(ReplaceElement(lk))               # a valid element replaces it
     other.apply(inverse)                                    # undo: the document's own element returns
     assert other.scene.element("fourbar") == odd
+
+
+@pytest.mark.parametrize("key, value, limit", [("load.wheel_inertia", 5e-324, "1e-12 kg·m²"),
+                                               ("load.external_moment", 5e-324, "1e-12 N·m"),
+                                               ("load.external_moment", -1e-20, "1e-12 N·m"),
+                                               ("clearance.slot", 1e-310, "1e-06 mm")])
+def test_quantities_that_may_be_zero_are_zero_or_physical(key, value, limit):
+    """A wheel inertia of 5e-324 kg·m² made a denormal normal force whose Hertz strip underflowed
+    to 0 (divide by zero, nan in the contact columns)."""
+    doc = json.loads(example_path("geneva_z4").read_text())
+    node = doc["elements"][0]
+    *parents, leaf = key.split(".")
+    for part in parents:
+        node = node.setdefault(part, {})
+    node[leaf] = value
+    with pytest.raises(Exception) as info:
+        loads_scene(json.dumps(doc))
+    assert f"0 or at least {limit}" in str(info.value) and key in str(info.value), str(info.value)
+    node[leaf] = 0.0
+    loads_scene(json.dumps(doc))
