@@ -12,19 +12,20 @@ import random
 import sys
 import traceback
 
-from PySide6.QtCore import QPoint, QPointF, Qt
+from PySide6.QtCore import QEvent, QPoint, QPointF, Qt
 from PySide6.QtWidgets import QApplication
 
 from app_fakes import shell  # noqa: F401 - fixture
 
 #: fixed for CI; MECHSKETCH_MONKEY_SEED / MECHSKETCH_MONKEY_EVENTS explore further by hand
 SEED = int(os.environ.get("MECHSKETCH_MONKEY_SEED", "20261124"))
-EVENTS = int(os.environ.get("MECHSKETCH_MONKEY_EVENTS", "2000"))
+EVENTS = int(os.environ.get("MECHSKETCH_MONKEY_EVENTS", "3000"))
 TEXTS = ["0", "1", "-1", "12.5", "250", "1e9", "1e10", "1e308", "-1e308", "5e-324", "nan", "inf", "-0",
          "abc", "", "3,5", "1e5", "100001", "0.0001", "360", "-720"]
 KEYS = [Qt.Key.Key_Escape, Qt.Key.Key_Delete, Qt.Key.Key_Backspace, Qt.Key.Key_Return, Qt.Key.Key_Space,
         Qt.Key.Key_F, Qt.Key.Key_1, Qt.Key.Key_Period, Qt.Key.Key_Comma, Qt.Key.Key_Z, Qt.Key.Key_Tab]
 SKIP_ACTIONS = {"quit"}
+FRESH = 250   # every FRESH-th event opens an example
 
 
 class Monkey:
@@ -149,6 +150,9 @@ class Monkey:
                 [self.type_number] * 5 + [self.select] * 3 + [self.combo] + [self.play] + [self.scrub] * 2
         self.rng.choice(kinds)()
         QApplication.processEvents()
+        # what the running event loop does between events: widgets the panels rebuilt go away
+        # (without it deleteLater'd widgets pile up and each event costs more than the last)
+        QApplication.sendPostedEvents(None, QEvent.Type.DeferredDelete)
 
 
 def test_a_few_thousand_random_user_events_raise_nothing(shell, qtbot, tmp_path):
@@ -163,8 +167,14 @@ def test_a_few_thousand_random_user_events_raise_nothing(shell, qtbot, tmp_path)
     monkey = Monkey(parts, qtbot, random.Random(SEED))
     previous, sys.excepthook = sys.excepthook, hook
     try:
-        for _ in range(EVENTS):
-            monkey.step()
+        examples = sorted(k for k in parts.window.actions if k.startswith("example:"))
+        for k in range(EVENTS):
+            if k % FRESH == FRESH - 1:   # a user opens another example now and then: the scene
+                name = monkey.rng.choice(examples)   # does not grow without bound (cost per event)
+                monkey.log.append(f"action {name}")
+                parts.window.actions[name].trigger()
+            else:
+                monkey.step()
             if errors:
                 break
     finally:
