@@ -292,7 +292,7 @@ def link_outline(pose: ElementPose, link_id: str) -> list[complex]:
     if len(uniq) <= 2:
         return uniq
     c = sum(uniq) / len(uniq)
-    return sorted(uniq, key=lambda z: cmath.phase(z - c))
+    return sorted(uniq, key=lambda z: math.atan2((z - c).imag, (z - c).real))   # cmath.phase raises on subnormals
 
 
 def pick(poses: Iterable[ElementPose], pos: XY, tol: float) -> Hit | None:
