@@ -109,17 +109,18 @@ def _own_id(obj: Any, inherited: str | None) -> str | None:
 
 
 def _nonfinite(obj: Any, path: str, out: list[Problem], id: str | None = None) -> None:
-    """Report NaN, ±Infinity, subnormal floats (they lose precision and make math functions raise
-    range errors) and integers too large for a float, with their path and the id of
+    """Report NaN, ±Infinity, subnormal coordinates (items of lists: they make cmath.phase and
+    other math functions raise range errors; scalars have their own smallest values in the
+    parsers) and integers too large for a float, with their path and the id of
     the innermost object carrying one (iterative: deep nesting cannot overflow the stack)."""
     stack = [(obj, path, id)]
     while stack:
         obj, path, id = stack.pop()
         if isinstance(obj, float) and not math.isfinite(obj):
             out.append(Problem(path, f"number must be finite, got {obj}", id))
-        elif isinstance(obj, float) and 0.0 < abs(obj) < sys.float_info.min:
-            out.append(Problem(path, f"number {obj!r} is subnormal (nonzero but below "
-                                     f"{sys.float_info.min:.4g} in size): write 0 or a larger value", id))
+        elif isinstance(obj, float) and 0.0 < abs(obj) < sys.float_info.min and path.endswith(("[0]", "[1]")):
+            out.append(Problem(path, f"coordinate {obj!r} is subnormal (nonzero but below "
+                                     f"{sys.float_info.min:.4g} mm in size): write 0 or a larger value", id))
         elif isinstance(obj, int) and not isinstance(obj, bool) and abs(obj) > sys.float_info.max:
             out.append(Problem(path, f"number must be finite, got an integer of {len(str(abs(obj)))} digits "
                                      "(too large for a float)", id))
