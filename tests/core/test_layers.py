@@ -28,7 +28,7 @@ PACKAGE = "mechsketch.core"
 #: rank of each layer; a module may import from layers of equal or lower rank
 RANK = {"base": 0, "model": 1, "solver": 2, "analyses": 3, "io": 4, "workspace": 5, "cli": 6, "facade": 7}
 #: modules at the top of core, by file name
-TOP_FILES = {"errors.py": "base", "__init__.py": "facade"}
+TOP_FILES = {"errors.py": "base", "runtime.py": "base", "__init__.py": "facade"}
 #: layers whose modules may not import inside a function or class
 NO_LAZY = ("base", "model", "solver", "analyses", "io")
 #: roots that no core module may import
@@ -67,7 +67,7 @@ def layer_of_module(name: str) -> str | None:
     if not name.startswith(PACKAGE + "."):
         return None
     first = name.split(".")[2]
-    if first == "errors":
+    if first in ("errors", "runtime"):
         return "base"
     return first if first in RANK else "facade"
 
