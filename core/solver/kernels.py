@@ -1,9 +1,12 @@
 """Closed-form kinematics of the driver and of the five class-II dyads, on whole sample arrays.
 
-Points and vectors are complex numbers (x + iy, mm) in arrays of shape (N,); multiplying by ``1j``
-is the 90° rotation J. A link's motion is a :class:`LinkState`: the position of an anchor point
-(its drawn position ``a0``), the rotation ``rot = exp(i·ρ)`` from the drawn pose, and the
-derivatives. Any point drawn at ``p0`` on the link is then ``A + rot·(p0 − a0)``.
+Points and vectors are x + iy (mm) over arrays of shape (N,); J is the 90° rotation. A link's
+motion is a :class:`~.link_state.LinkState`: the position of an anchor point (its drawn position
+``a0``), the rotation ``rot = exp(i·ρ)`` from the drawn pose, and the derivatives. Any point drawn
+at ``p0`` on the link is then ``A + rot·(p0 − a0)``. The driver, RRR and RRP kernels and the
+slider states compute in real arithmetic on float x/y arrays (one determinant per group, its
+reciprocal shared by the velocity and acceleration systems); RPR, PRP and RPP use the complex
+views of the states they read.
 
 Positions are closed form; velocities and accelerations solve the 2×2 linear system obtained by
 differentiating the loop equation once and twice. Pasika's eqs. (2)–(3) (RRR) and (6)–(7) (RRP,
@@ -16,43 +19,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .link_state import LinkState, ground_state, to_complex
+
 Arr = np.ndarray  # complex (N,) for points/vectors, float (N,) for scalars
 
-
-@dataclass
-class LinkState:
-    """Motion of one rigid link over N samples.
-
-    Attributes: ``a0`` drawn anchor (complex, mm); ``A``, ``vA``, ``aA`` anchor position (mm),
-    velocity (mm/s), acceleration (mm/s²), complex (N,) or scalars; ``rot`` exp(iρ) (N,);
-    ``omega`` (rad/s), ``alpha`` (rad/s²) float (N,) or scalars. Derivatives are None below the
-    requested order.
-    """
-
-    a0: complex
-    A: Arr
-    rot: Arr
-    vA: Arr | None = None
-    omega: Arr | float | None = None
-    aA: Arr | None = None
-    alpha: Arr | float | None = None
-
-    def point(self, p0: complex) -> Arr:
-        return self.A + self.rot * (p0 - self.a0)
-
-    def velocity(self, p0: complex, at: Arr | None = None) -> Arr:
-        """Velocity of the link point drawn at ``p0`` (``at``: its current position, if known)."""
-        r = (self.point(p0) if at is None else at) - self.A
-        return self.vA + 1j * self.omega * r
-
-    def acceleration(self, p0: complex, at: Arr | None = None) -> Arr:
-        r = (self.point(p0) if at is None else at) - self.A
-        return self.aA + (1j * self.alpha - self.omega * self.omega) * r
-
-
-def ground_state() -> LinkState:
-    """The frame: identity motion (scalars broadcast against sample arrays)."""
-    return LinkState(0j, 0j, 1.0 + 0j, 0j, 0.0, 0j, 0.0)
+__all__ = ["DyadOut", "LinkState", "PARALLEL_COND", "Slide", "crank", "cross", "dot", "ground_state",
+           "prp", "rpp", "rpr", "rrp", "rrr", "solve2", "to_complex"]
 
 
 def cross(a: Arr, b: Arr) -> Arr:
@@ -128,29 +100,63 @@ def _sqrt_ok(x: Arr, gap: Arr, tol: float) -> tuple[Arr, Arr]:
 def crank(pivot: complex, a0_angle: float, inputs: Arr, omega: float | Arr, alpha: float | Arr,
           order: int) -> LinkState:
     """The driver: rotation about a ground pivot by ``inputs − a0_angle`` (rad)."""
-    rot = np.exp(1j * (inputs - a0_angle))
-    st = LinkState(pivot, np.full(inputs.shape, pivot, dtype=complex), rot)
+    th = inputs - a0_angle
+    xy = (np.full(inputs.shape, pivot.real), np.full(inputs.shape, pivot.imag))
+    st = LinkState.real(pivot, xy, (np.cos(th), np.sin(th)))
     if order >= 1:
-        st.vA, st.omega = 0j, omega
+        st.vxy, st.omega = (0.0, 0.0), omega
     if order >= 2:
-        st.aA, st.alpha = 0j, alpha
+        st.axy, st.alpha = (0.0, 0.0), alpha
     return st
+
+
+def _full(v, shape):
+    """``v`` as an array of ``shape`` if it is a scalar (rates of a slider keep the samples' shape)."""
+    return np.full(shape, v) if np.ndim(v) == 0 and shape else v
 
 
 def _slider(g: LinkState, s0: complex, u0: complex, s: Arr, sd: Arr | None, sdd: Arr | None,
-            order: int) -> LinkState:
-    """State of a link translating along a guide of link ``g`` (axis through drawn s0, dir u0)."""
-    z = g.point(s0)
-    u = g.rot * u0
-    st = LinkState(s0, z + s * u, g.rot)
+            order: int, guide: tuple | None = None) -> LinkState:
+    """State of a link translating along a guide of link ``g`` (axis through drawn s0, dir u0),
+    displaced by ``s`` (mm) with rates ``sd``, ``sdd``. ``guide``: (arm, z, u) of the guide point
+    and direction as (x, y) pairs, if already computed."""
+    if guide is None:
+        guide = (g.arm_xy(s0), g.point_xy(s0), g.rotate(u0))
+    arm, (zx, zy), (ux, uy) = guide
+    st = LinkState.real(s0, (zx + s * ux, zy + s * uy), g.cs)
+    shape = np.shape(s)
+    still = g.still()
     if order >= 1:
-        iw = 1j * g.omega
-        st.vA = g.velocity(s0, z) + (sd + iw * s) * u
+        vzx, vzy = g.vel_xy(arm)
+        if still:
+            st.vxy = (_full(vzx + sd * ux, shape), _full(vzy + sd * uy, shape))
+        else:
+            ws = g.omega * s
+            st.vxy = (vzx + sd * ux - ws * uy, vzy + sd * uy + ws * ux)
         st.omega = g.omega
     if order >= 2:
-        st.aA = g.acceleration(s0, z) + (sdd + 2.0 * iw * sd + (1j * g.alpha - g.omega * g.omega) * s) * u
+        azx, azy = g.acc_xy(arm)
+        if still:
+            st.axy = (_full(azx + sdd * ux, shape), _full(azy + sdd * uy, shape))
+        else:
+            w = g.omega
+            p = sdd - w * w * s                  # (sdd + 2iω·sd + (iα − ω²)·s)·u = (p + iq)·u
+            q = 2.0 * w * sd + g.alpha * s
+            st.axy = (azx + p * ux - q * uy, azy + p * uy + q * ux)
         st.alpha = g.alpha
     return st
+
+
+def _inv(z: complex) -> tuple[float, float]:
+    """(re, im) of 1/z (the rotation of a link is its current vector over the drawn one)."""
+    k = 1.0 / z
+    return k.real, k.imag
+
+
+def _turn(vx, vy, k: tuple[float, float]) -> tuple:
+    """(x, y) of (vx + i·vy)·(k[0] + i·k[1])."""
+    kr, ki = k
+    return vx * kr - vy * ki, vx * ki + vy * kr
 
 
 def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: complex,
@@ -164,11 +170,13 @@ def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: co
     direction M→H undetermined (a rhombus or kite where B meets D): singular, not solved.
     """
     li, lj = abs(l0 - m0), abs(l0 - h0)
-    mode0 = 1.0 if cross(np.asarray(h0 - m0), np.asarray(l0 - m0)) >= 0.0 else -1.0
+    mode0 = 1.0 if ((h0 - m0).conjugate() * (l0 - m0)).imag >= 0.0 else -1.0
     mode = mode0 if flip is None else mode0 * flip
-    M, H = m_state.point(m0), h_state.point(h0)
-    d = H - M
-    D = np.abs(d)
+    armM, armH = m_state.arm_xy(m0), h_state.arm_xy(h0)
+    mx, my = m_state.point_xy(m0)
+    hx, hy = h_state.point_xy(h0)
+    dx, dy = hx - mx, hy - my
+    D = np.sqrt(dx * dx + dy * dy)
     # Heron in factored form: accurate near toggles (paper eq. 1 via atan2/Heron, notes §A)
     f1, f2, f3 = li + lj - D, D - li + lj, D + li - lj
     prod = (D + li + lj) * f1 * f2 * f3
@@ -176,27 +184,38 @@ def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: co
     root, ok = _sqrt_ok(prod, gap, tol)
     singular = ok & (D <= near)
     ok = ok & ~singular
-    x = ((li - lj) * (li + lj) + D * D) / (2.0 * D)
-    h = mode * root / (2.0 * D)
-    # L in polar form: |L − M| = li exactly. (x, h) lose accuracy like eps·li²/D where M and H
+    # L − M = q·(li/|q|)·(d/D) with q = x + i·h, x = (li² − lj² + D²)/(2D), h = mode·√prod/(2D):
+    # L in polar form, |L − M| = li exactly. (x, h) lose accuracy like eps·li²/D where M and H
     # nearly coincide (li ≈ lj), and the Cartesian form then left the loop open by up to li.
-    q = x + 1j * h
-    L = M + q * (li / np.abs(q)) * (d / D)
-    ri, rj = L - M, L - H
-    si = LinkState(m0, M, ri / (l0 - m0))
-    sj = LinkState(h0, H, rj / (l0 - h0))
-    # velocity system (eq. 2): i·ω_i·r_i − i·ω_j·r_j = v_H − v_M
-    c1, c2 = 1j * ri, -1j * rj
-    det = cross(c1, c2)
+    # The common factor 1/(2D) of x and h cancels in q/|q|.
+    x = (li - lj) * (li + lj) + D * D
+    h = root if (flip is None and mode0 == 1.0) else mode * root
+    t = li / (np.sqrt(x * x + h * h) * D)
+    x = x * t
+    h = h * t
+    rix, riy = x * dx - h * dy, x * dy + h * dx          # L − M
+    lx, ly = mx + rix, my + riy
+    rjx, rjy = lx - hx, ly - hy                          # L − H
+    si = LinkState.real(m0, (mx, my), _turn(rix, riy, _inv(l0 - m0)))
+    sj = LinkState.real(h0, (hx, hy), _turn(rjx, rjy, _inv(l0 - h0)))
+    si.set_point(l0, (rix, riy), (lx, ly))
+    # velocity system (eq. 2): i·ω_i·r_i − i·ω_j·r_j = v_H − v_M, det = cross(J·ri, −J·rj)
+    det = riy * rjx - rix * rjy
     cond = np.abs(det) / (li * lj)
     if order >= 1:
-        vM, vH = m_state.velocity(m0, M), h_state.velocity(h0, H)
-        wi, wj, _ = solve2(c1, c2, vH - vM)
-        si.vA, si.omega, sj.vA, sj.omega = vM, wi, vH, wj
+        inv = -1.0 / det
+        vM, vH = m_state.vel_xy(armM), h_state.vel_xy(armH)
+        wx, wy = vH[0] - vM[0], vH[1] - vM[1]
+        wi = (wx * rjx + wy * rjy) * inv
+        wj = (rix * wx + riy * wy) * inv
+        si.vxy, si.omega, sj.vxy, sj.omega = vM, wi, vH, wj
     if order >= 2:
-        aM, aH = m_state.acceleration(m0, M), h_state.acceleration(h0, H)
-        ai, aj, _ = solve2(c1, c2, aH - aM + wi * wi * ri - wj * wj * rj)  # eq. 3
-        si.aA, si.alpha, sj.aA, sj.alpha = aM, ai, aH, aj
+        aM, aH = m_state.acc_xy(armM), h_state.acc_xy(armH)
+        wi2, wj2 = wi * wi, wj * wj
+        qx = aH[0] - aM[0] + wi2 * rix - wj2 * rjx       # eq. 3
+        qy = aH[1] - aM[1] + wi2 * riy - wj2 * rjy
+        si.axy, si.alpha = aM, (qx * rjx + qy * rjy) * inv
+        sj.axy, sj.alpha = aH, (rix * qx + riy * qy) * inv
     return DyadOut(si, sj, ok, cond, gap, int(mode0), singular=singular)
 
 
@@ -208,38 +227,52 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
     sign of the rod's projection on the guide in the drawn pose (the paper's choice of x_q).
     """
     li = abs(l0 - m0)
-    mode0 = 1.0 if dot(np.asarray(u0), np.asarray(l0 - m0)) >= 0.0 else -1.0
+    mode0 = 1.0 if (u0.conjugate() * (l0 - m0)).real >= 0.0 else -1.0
     mode = mode0 if flip is None else mode0 * flip
-    M = m_state.point(m0)
-    z = g.point(s0)
-    u = g.rot * u0
-    b = g.rot * (l0 - s0)  # slider pin relative to the slide point (l_j, φ_jq of the paper)
-    dvec = z + b - M
-    du = dot(u, dvec)
-    dn = cross(u, dvec)  # signed eccentricity e_s + l_j sin φ_jq − M·n  (A1–A3 corrected)
+    armM = m_state.arm_xy(m0)
+    mx, my = m_state.point_xy(m0)
+    armz = g.arm_xy(s0)
+    zx, zy = g.point_xy(s0)
+    ux, uy = g.rotate(u0)
+    # slider pin relative to the slide point (l_j, φ_jq of the paper)
+    bx, by = g.rotate(l0 - s0) if l0 != s0 else (0.0, 0.0)
+    dx, dy = zx + bx - mx, zy + by - my
+    du = ux * dx + uy * dy
+    dn = ux * dy - uy * dx  # signed eccentricity e_s + l_j sin φ_jq − M·n  (A1–A3 corrected)
     gap = li - np.abs(dn)
     root, ok = _sqrt_ok((li - dn) * (li + dn), gap, tol)
-    s = -du + mode * root
-    ri = dvec + s * u
-    si = LinkState(m0, M, ri / (l0 - m0))
-    c1, c2 = u, -1j * ri
-    cond = np.abs(cross(c1, c2)) / li
+    s = (root - du) if (flip is None and mode0 == 1.0) else mode * root - du
+    rix, riy = dx + s * ux, dy + s * uy
+    si = LinkState.real(m0, (mx, my), _turn(rix, riy, _inv(l0 - m0)))
+    lx, ly = mx + rix, my + riy
+    si.set_point(l0, (rix, riy), (lx, ly))
+    # columns c1 = u, c2 = −J·ri: det = −(u·ri)
+    udr = ux * rix + uy * riy
+    cond = np.abs(udr) / li
+    still = g.still()
+    sd = sdd = None
     if order >= 1:
-        vM = m_state.velocity(m0, M)
-        L = M + ri
-        vLg = g.velocity(s0, z) + 1j * g.omega * (L - z)
-        sd, wi, _ = solve2(c1, c2, vM - vLg)  # eq. 6 with correction A4
-        si.vA, si.omega = vM, wi
-    else:
-        sd = None
+        inv = 1.0 / udr
+        vM = m_state.vel_xy(armM)
+        if still:
+            wx, wy = vM
+        else:
+            vLx, vLy = g.vel_xy((lx - g.xy[0], ly - g.xy[1]))     # the guide's point under L
+            wx, wy = vM[0] - vLx, vM[1] - vLy
+        sd = (wx * rix + wy * riy) * inv                 # eq. 6 with correction A4
+        wi = (uy * wx - ux * wy) * inv
+        si.vxy, si.omega = vM, wi
     if order >= 2:
-        aM = m_state.acceleration(m0, M)
-        aLg = g.acceleration(s0, z) + (1j * g.alpha - g.omega * g.omega) * (L - z)
-        sdd, ai, _ = solve2(c1, c2, aM - wi * wi * ri - aLg - 2j * g.omega * sd * u)  # eq. 7
-        si.aA, si.alpha = aM, ai
-    else:
-        sdd = None
-    sj = _slider(g, s0, u0, s, sd, sdd, order)
+        aM = m_state.acc_xy(armM)
+        wi2 = wi * wi
+        qx, qy = aM[0] - wi2 * rix, aM[1] - wi2 * riy
+        if not still:
+            aLx, aLy = g.acc_xy((lx - g.xy[0], ly - g.xy[1]))
+            cor = 2.0 * g.omega * sd
+            qx, qy = qx - aLx + cor * uy, qy - aLy - cor * ux    # eq. 7
+        sdd = (qx * rix + qy * riy) * inv
+        si.axy, si.alpha = aM, (uy * qx - ux * qy) * inv
+    sj = _slider(g, s0, u0, s, sd, sdd, order, (armz, (zx, zy), (ux, uy)))
     return DyadOut(si, sj, ok, cond, gap, int(mode0), (Slide(s, sd, sdd),))
 
 

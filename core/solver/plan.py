@@ -160,8 +160,11 @@ class Plan:
                 # assembled only where the solved poses are finite: the kernels' arithmetic can
                 # break down although their assembly test passed (outer joints exactly
                 # coincident: a 0/0 direction; lengths whose squares overflow)
-                for st in (out.state_i, out.state_j):
-                    out.ok = out.ok & np.isfinite(st.A) & np.isfinite(st.rot)
+                # (one pass: a sum of the coordinates is finite iff each one is, short of overflow
+                # beyond 1e308, which no pose within the input limits reaches)
+                (xi, yi), (ci, si), (xj, yj), (cj, sj) = (out.state_i.xy, out.state_i.cs,
+                                                          out.state_j.xy, out.state_j.cs)
+                out.ok = out.ok & np.isfinite(xi + yi + ci + si + xj + yj + cj + sj)
                 states[step.group.link_i] = out.state_i
                 states[step.group.link_j] = out.state_j
                 outs[step.group.name] = out
@@ -347,6 +350,14 @@ def _xy(z: np.ndarray, n: int) -> np.ndarray:
     return z.view(np.float64).reshape(n, 2)
 
 
+def _xy2(p: tuple, n: int) -> np.ndarray:
+    """(x, y) pair of float (N,) arrays (or scalars) -> a new float (N, 2) array."""
+    out = np.empty((n, 2))
+    out[:, 0] = p[0]
+    out[:, 1] = p[1]
+    return out
+
+
 def unwrap_finite(a: np.ndarray) -> np.ndarray:
     """np.unwrap along samples, restarting after NaN gaps (each finite run unwrapped on its own)."""
     out = np.array(a, dtype=float)
@@ -410,7 +421,7 @@ class Solution:
                         c = c * c
                     ok &= 8.0 * eps * (1.0 + step.coord / step.scale) <= RATE_REL * c
                 for st in self._states.values():
-                    rates = [st.vA, st.omega] + ([st.aA, st.alpha] if self.order >= 2 else [])
+                    rates = [*st.vxy, st.omega] + ([*st.axy, st.alpha] if self.order >= 2 else [])
                     for r in rates:
                         ok &= np.broadcast_to(np.isfinite(np.asarray(r)), ok.shape)
             self._rates_valid = ok
@@ -467,33 +478,37 @@ class Solution:
     def position(self, joint: str) -> np.ndarray:
         """(N, 2) position of ``joint``, mm."""
         st, p0 = self._joint(joint)
-        return self._mask(_xy(st.point(p0), len(self)))
+        return self._mask(_xy2(st.point_xy(p0), len(self)))
 
     def velocity(self, joint: str) -> np.ndarray:
         """(N, 2) velocity, mm/s."""
         self._need(1, "velocity")
         st, p0 = self._joint(joint)
         with np.errstate(invalid="ignore", over="ignore"):
-            return self._mask(_xy(st.velocity(p0), len(self)))
+            return self._mask(_xy2(st.vel_xy(st.arm_xy(p0)), len(self)))
 
     def acceleration(self, joint: str) -> np.ndarray:
         """(N, 2) acceleration, mm/s²."""
         self._need(2, "acceleration")
         st, p0 = self._joint(joint)
         with np.errstate(invalid="ignore", over="ignore"):
-            return self._mask(_xy(st.acceleration(p0), len(self)))
+            return self._mask(_xy2(st.acc_xy(st.arm_xy(p0)), len(self)))
 
     def point(self, link: str, xy) -> np.ndarray:
         """(N, 2) position of the point of ``link`` drawn at ``xy`` (mm)."""
-        return self._mask(_xy(self._state(link).point(_c(xy)), len(self)))
+        return self._mask(_xy2(self._state(link).point_xy(_c(xy)), len(self)))
 
     def point_velocity(self, link: str, xy) -> np.ndarray:
         self._need(1, "velocity")
-        return self._mask(_xy(self._state(link).velocity(_c(xy)), len(self)))
+        st = self._state(link)
+        with np.errstate(invalid="ignore", over="ignore"):
+            return self._mask(_xy2(st.vel_xy(st.arm_xy(_c(xy))), len(self)))
 
     def point_acceleration(self, link: str, xy) -> np.ndarray:
         self._need(2, "acceleration")
-        return self._mask(_xy(self._state(link).acceleration(_c(xy)), len(self)))
+        st = self._state(link)
+        with np.errstate(invalid="ignore", over="ignore"):
+            return self._mask(_xy2(st.acc_xy(st.arm_xy(_c(xy))), len(self)))
 
     # -- links ----------------------------------------------------------------------------
     def rotation(self, link: str) -> np.ndarray:
@@ -504,8 +519,9 @@ class Solution:
         elif link == self.plan.linkage.ground:
             rho = np.zeros(len(self))
         else:
-            st = self._state(link)
-            rho = unwrap_finite(np.angle(np.broadcast_to(st.rot, (len(self),))))
+            c, s = self._state(link).cs
+            n = len(self)
+            rho = unwrap_finite(np.arctan2(np.broadcast_to(s, (n,)), np.broadcast_to(c, (n,))))
         return self._mask(rho)
 
     def angle(self, link: str) -> np.ndarray:

@@ -1,0 +1,202 @@
+"""The motion of one rigid link over N samples, held as real x/y arrays with complex views.
+
+The kernels (:mod:`.kernels`) compute in real arithmetic on float (N,) arrays; the analyses and
+the GUI read the same motion as complex numbers (x + iy). A :class:`LinkState` keeps each vector
+quantity — the anchor's position ``A``, the rotation ``rot = exp(iρ)``, the anchor's velocity
+``vA`` and acceleration ``aA`` — in whichever form it was given, and makes the other form on
+first use (then keeps it). The points of the link that were asked for are kept too, so that a
+joint's position is computed once per solve however often it is read.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+Arr = np.ndarray
+Pair = tuple  # (x, y): float (N,) arrays or floats
+
+
+def to_complex(x, y):
+    """x + iy as a complex (N,) array (a Python complex for two scalars)."""
+    if np.ndim(x) == 0 and np.ndim(y) == 0:
+        return complex(float(x), float(y))
+    z = np.empty(np.broadcast_shapes(np.shape(x), np.shape(y)), dtype=complex)
+    z.real = x
+    z.imag = y
+    return z
+
+
+def split(z) -> Pair | None:
+    """(real, imaginary) of a complex array or scalar (views for arrays), None for None."""
+    if z is None:
+        return None
+    if isinstance(z, np.ndarray) and z.ndim > 0:
+        return (z.real, z.imag) if np.iscomplexobj(z) else (z, np.zeros(z.shape))
+    z = complex(z)
+    return z.real, z.imag
+
+
+def _vec(name: str, doc: str) -> tuple[property, property]:
+    """A complex property and its (x, y) twin over the slots ``_<name>`` and ``_<name>_xy``."""
+    cz, cr = "_" + name, "_" + name + "_xy"
+    moves = name in ("A", "rot")   # a new anchor or rotation moves the points already computed
+
+    def get_z(self):
+        z = getattr(self, cz)
+        if z is None:
+            p = getattr(self, cr)
+            if p is not None:
+                z = to_complex(*p)
+                setattr(self, cz, z)
+        return z
+
+    def set_z(self, value):
+        setattr(self, cz, value)
+        setattr(self, cr, None)
+        if moves:
+            self._points = None
+
+    def get_r(self):
+        p = getattr(self, cr)
+        if p is None:
+            p = split(getattr(self, cz))
+            setattr(self, cr, p)
+        return p
+
+    def set_r(self, value):
+        setattr(self, cr, value)
+        setattr(self, cz, None)
+        if moves:
+            self._points = None
+
+    return property(get_z, set_z, doc=doc), property(get_r, set_r, doc=doc + " as (x, y)")
+
+
+class LinkState:
+    """Motion of one rigid link over N samples.
+
+    Attributes: ``a0`` drawn anchor (complex, mm); ``A``, ``vA``, ``aA`` anchor position (mm),
+    velocity (mm/s), acceleration (mm/s²), complex (N,) or scalars; ``rot`` exp(iρ) (N,);
+    ``omega`` (rad/s), ``alpha`` (rad/s²) float (N,) or scalars. Derivatives are None below the
+    requested order. The same as (x, y) pairs of float (N,) arrays: ``xy``, ``cs`` (cos ρ, sin ρ),
+    ``vxy``, ``axy``. Any point drawn at ``p0`` on the link is ``A + rot·(p0 − a0)``.
+    """
+
+    __slots__ = ("a0", "omega", "alpha", "_A", "_A_xy", "_rot", "_rot_xy", "_vA", "_vA_xy",
+                 "_aA", "_aA_xy", "_points")
+
+    A, xy = _vec("A", "anchor position, mm")
+    rot, cs = _vec("rot", "rotation from the drawn pose, exp(iρ)")
+    vA, vxy = _vec("vA", "anchor velocity, mm/s")
+    aA, axy = _vec("aA", "anchor acceleration, mm/s²")
+
+    def __init__(self, a0: complex, A=None, rot=None, vA=None, omega=None, aA=None, alpha=None):
+        self.a0 = a0
+        self._A, self._rot, self._vA, self._aA = A, rot, vA, aA
+        self._A_xy = self._rot_xy = self._vA_xy = self._aA_xy = None
+        self.omega, self.alpha = omega, alpha
+        self._points = None
+
+    @classmethod
+    def real(cls, a0: complex, xy: Pair, cs: Pair, vxy: Pair | None = None, omega=None,
+             axy: Pair | None = None, alpha=None) -> "LinkState":
+        """A state from (x, y) pairs: anchor ``xy`` (mm), rotation ``cs`` = (cos ρ, sin ρ), and
+        the anchor's velocity ``vxy`` (mm/s) and acceleration ``axy`` (mm/s²)."""
+        st = cls.__new__(cls)
+        st.a0 = a0
+        st._A = st._rot = st._vA = st._aA = None
+        st._A_xy, st._rot_xy, st._vA_xy, st._aA_xy = xy, cs, vxy, axy
+        st.omega, st.alpha = omega, alpha
+        st._points = None
+        return st
+
+    def __repr__(self) -> str:
+        return f"LinkState(a0={self.a0!r}, A={self.A!r}, rot={self.rot!r}, omega={self.omega!r})"
+
+    # -- real arithmetic -----------------------------------------------------------------------
+    def rotate(self, v0: complex) -> Pair:
+        """The drawn vector ``v0`` turned with the link: (x, y) of rot·v0."""
+        c, s = self.cs
+        vr, vi = v0.real, v0.imag
+        if vi == 0.0:
+            return c * vr, s * vr
+        if vr == 0.0:
+            return -(s * vi), c * vi
+        return c * vr - s * vi, s * vr + c * vi
+
+    def _entry(self, p0: complex) -> list:
+        """[arm, point] of the point drawn at ``p0`` (computed on first use)."""
+        pts = self._points
+        if pts is None:
+            pts = self._points = {}
+        e = pts.get(p0)
+        if e is None:
+            d = p0 - self.a0
+            x, y = self.xy
+            if d == 0:
+                e = [(0.0, 0.0), (x, y)]
+            else:
+                ax, ay = self.rotate(d)
+                e = [(ax, ay), (x + ax, y + ay)]
+            pts[p0] = e
+        return e
+
+    def arm_xy(self, p0: complex) -> Pair:
+        """(x, y) of rot·(p0 − a0): the point drawn at ``p0`` relative to the anchor, mm."""
+        return self._entry(p0)[0]
+
+    def point_xy(self, p0: complex) -> Pair:
+        """(x, y) of the point drawn at ``p0``, mm."""
+        return self._entry(p0)[1]
+
+    def set_point(self, p0: complex, arm: Pair, at: Pair) -> None:
+        """Record the point drawn at ``p0`` as computed by a kernel (its arm and position)."""
+        if self._points is None:
+            self._points = {}
+        self._points[p0] = [arm, at]
+
+    def vel_xy(self, arm: Pair) -> Pair:
+        """Velocity (x, y) of the link point at ``arm`` from the anchor: vA + ω·J·arm, mm/s."""
+        vx, vy = self.vxy
+        w = self.omega
+        ax, ay = arm
+        if np.ndim(w) == 0 and w == 0.0:
+            return vx, vy
+        return vx - w * ay, vy + w * ax
+
+    def acc_xy(self, arm: Pair) -> Pair:
+        """Acceleration (x, y) of the link point at ``arm``: aA + (α·J − ω²)·arm, mm/s²."""
+        gx, gy = self.axy
+        w, al = self.omega, self.alpha
+        ax, ay = arm
+        if np.ndim(w) == 0 and np.ndim(al) == 0 and w == 0.0 and al == 0.0:
+            return gx, gy
+        w2 = w * w
+        return gx - w2 * ax - al * ay, gy - w2 * ay + al * ax
+
+    def still(self) -> bool:
+        """No motion at all (the frame): scalar zero rates."""
+        w, al, a = self.omega, self.alpha, self.axy
+        return (w is not None and np.ndim(w) == 0 and w == 0.0 and _zero(self.vxy)
+                and (al is None or (np.ndim(al) == 0 and al == 0.0)) and (a is None or _zero(a)))
+
+    # -- complex views ---------------------------------------------------------------------------
+    def point(self, p0: complex) -> Arr:
+        return to_complex(*self.point_xy(p0))
+
+    def velocity(self, p0: complex, at: Arr | None = None) -> Arr:
+        """Velocity of the link point drawn at ``p0`` (``at``: its current position, if known)."""
+        arm = self.arm_xy(p0) if at is None else split(at - self.A)
+        return to_complex(*self.vel_xy(arm))
+
+    def acceleration(self, p0: complex, at: Arr | None = None) -> Arr:
+        arm = self.arm_xy(p0) if at is None else split(at - self.A)
+        return to_complex(*self.acc_xy(arm))
+
+
+def _zero(p: Pair | None) -> bool:
+    return p is not None and np.ndim(p[0]) == 0 and np.ndim(p[1]) == 0 and p[0] == 0.0 and p[1] == 0.0
+
+
+def ground_state() -> LinkState:
+    """The frame: identity motion (scalars broadcast against sample arrays)."""
+    return LinkState.real(0j, (0.0, 0.0), (1.0, 0.0), (0.0, 0.0), 0.0, (0.0, 0.0), 0.0)
