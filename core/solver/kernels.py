@@ -81,6 +81,8 @@ class DyadOut:
     mode: int | None = None
     slides: tuple[Slide, ...] = ()
     singular: Arr | None = None
+    #: (N,) finite exactly where both link states are (a sum of the kernel's coordinates), or None
+    probe: Arr | None = None
 
 
 #: PRP/RPP: below this |sin| between the two slide axes the lines are taken as parallel (not
@@ -147,18 +149,6 @@ def _slider(g: LinkState, s0: complex, u0: complex, s: Arr, sd: Arr | None, sdd:
     return st
 
 
-def _inv(z: complex) -> tuple[float, float]:
-    """(re, im) of 1/z (the rotation of a link is its current vector over the drawn one)."""
-    k = 1.0 / z
-    return k.real, k.imag
-
-
-def _turn(vx, vy, k: tuple[float, float]) -> tuple:
-    """(x, y) of (vx + i·vy)·(k[0] + i·k[1])."""
-    kr, ki = k
-    return vx * kr - vy * ki, vx * ki + vy * kr
-
-
 def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: complex,
         order: int, flip: Arr | None = None, tol: float = 0.0, near: float = 0.0) -> DyadOut:
     """RRR dyad: link i = M–L, link j = H–L; M, H outer joints on known links, L the inner joint.
@@ -196,8 +186,8 @@ def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: co
     rix, riy = x * dx - h * dy, x * dy + h * dx          # L − M
     lx, ly = mx + rix, my + riy
     rjx, rjy = lx - hx, ly - hy                          # L − H
-    si = LinkState.real(m0, (mx, my), _turn(rix, riy, _inv(l0 - m0)))
-    sj = LinkState.real(h0, (hx, hy), _turn(rjx, rjy, _inv(l0 - h0)))
+    si = LinkState.turned(m0, (mx, my), (rix, riy), l0 - m0)
+    sj = LinkState.turned(h0, (hx, hy), (rjx, rjy), l0 - h0)
     si.set_point(l0, (rix, riy), (lx, ly))
     # velocity system (eq. 2): i·ω_i·r_i − i·ω_j·r_j = v_H − v_M, det = cross(J·ri, −J·rj)
     det = riy * rjx - rix * rjy
@@ -216,7 +206,8 @@ def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: co
         qy = aH[1] - aM[1] + wi2 * riy - wj2 * rjy
         si.axy, si.alpha = aM, (qx * rjx + qy * rjy) * inv
         sj.axy, sj.alpha = aH, (rix * qx + riy * qy) * inv
-    return DyadOut(si, sj, ok, cond, gap, int(mode0), singular=singular)
+    # L finite: M and L − M are; with H finite both links' states are
+    return DyadOut(si, sj, ok, cond, gap, int(mode0), singular=singular, probe=lx + ly + (hx + hy))
 
 
 def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex, l0: complex,
@@ -243,7 +234,7 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
     root, ok = _sqrt_ok((li - dn) * (li + dn), gap, tol)
     s = (root - du) if (flip is None and mode0 == 1.0) else mode * root - du
     rix, riy = dx + s * ux, dy + s * uy
-    si = LinkState.real(m0, (mx, my), _turn(rix, riy, _inv(l0 - m0)))
+    si = LinkState.turned(m0, (mx, my), (rix, riy), l0 - m0)
     lx, ly = mx + rix, my + riy
     si.set_point(l0, (rix, riy), (lx, ly))
     # columns c1 = u, c2 = −J·ri: det = −(u·ri)
@@ -273,7 +264,8 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
         sdd = (qx * rix + qy * riy) * inv
         si.axy, si.alpha = aM, (uy * qx - ux * qy) * inv
     sj = _slider(g, s0, u0, s, sd, sdd, order, (armz, (zx, zy), (ux, uy)))
-    return DyadOut(si, sj, ok, cond, gap, int(mode0), (Slide(s, sd, sdd),))
+    sx, sy = sj.xy
+    return DyadOut(si, sj, ok, cond, gap, int(mode0), (Slide(s, sd, sdd),), probe=lx + ly + (sx + sy))
 
 
 def rpr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, u0: complex,

@@ -82,15 +82,43 @@ class LinkState:
     """
 
     __slots__ = ("a0", "omega", "alpha", "_A", "_A_xy", "_rot", "_rot_xy", "_vA", "_vA_xy",
-                 "_aA", "_aA_xy", "_points")
+                 "_aA", "_aA_xy", "_points", "_turn")
 
     A, xy = _vec("A", "anchor position, mm")
-    rot, cs = _vec("rot", "rotation from the drawn pose, exp(iρ)")
+    _rot_z, _cs = _vec("rot", "rotation from the drawn pose, exp(iρ)")
     vA, vxy = _vec("vA", "anchor velocity, mm/s")
     aA, axy = _vec("aA", "anchor acceleration, mm/s²")
 
+    @property
+    def rot(self):
+        """Rotation from the drawn pose, exp(iρ), complex (N,) or scalar."""
+        if self._turn is not None:
+            self.cs
+        return self._rot_z
+
+    @rot.setter
+    def rot(self, value) -> None:
+        self._turn = None
+        self._rot_z = value
+
+    @property
+    def cs(self) -> Pair | None:
+        """Rotation from the drawn pose as (cos ρ, sin ρ)."""
+        t = self._turn
+        if t is not None:   # made on first use from the link's current and drawn vectors
+            vx, vy, (kr, ki) = t
+            self._turn = None
+            self._rot_xy = (vx * kr - vy * ki, vx * ki + vy * kr)   # the points stay valid
+        return self._cs
+
+    @cs.setter
+    def cs(self, value: Pair) -> None:
+        self._turn = None
+        self._cs = value
+
     def __init__(self, a0: complex, A=None, rot=None, vA=None, omega=None, aA=None, alpha=None):
         self.a0 = a0
+        self._turn = None
         self._A, self._rot, self._vA, self._aA = A, rot, vA, aA
         self._A_xy = self._rot_xy = self._vA_xy = self._aA_xy = None
         self.omega, self.alpha = omega, alpha
@@ -103,10 +131,20 @@ class LinkState:
         the anchor's velocity ``vxy`` (mm/s) and acceleration ``axy`` (mm/s²)."""
         st = cls.__new__(cls)
         st.a0 = a0
+        st._turn = None
         st._A = st._rot = st._vA = st._aA = None
         st._A_xy, st._rot_xy, st._vA_xy, st._aA_xy = xy, cs, vxy, axy
         st.omega, st.alpha = omega, alpha
         st._points = None
+        return st
+
+    @classmethod
+    def turned(cls, a0: complex, xy: Pair, v: Pair, v0: complex) -> "LinkState":
+        """A state whose rotation is that of the drawn vector ``v0`` to the current one ``v``
+        ((x, y) pair), rot = v / v0, made only if it is read."""
+        st = cls.real(a0, xy, None)
+        k = 1.0 / v0
+        st._turn = (v[0], v[1], (k.real, k.imag))
         return st
 
     def __repr__(self) -> str:

@@ -162,9 +162,12 @@ class Plan:
                 # coincident: a 0/0 direction; lengths whose squares overflow)
                 # (one pass: a sum of the coordinates is finite iff each one is, short of overflow
                 # beyond 1e308, which no pose within the input limits reaches)
-                (xi, yi), (ci, si), (xj, yj), (cj, sj) = (out.state_i.xy, out.state_i.cs,
-                                                          out.state_j.xy, out.state_j.cs)
-                out.ok = out.ok & np.isfinite(xi + yi + ci + si + xj + yj + cj + sj)
+                probe = out.probe
+                if probe is None:
+                    (xi, yi), (ci, si), (xj, yj), (cj, sj) = (out.state_i.xy, out.state_i.cs,
+                                                              out.state_j.xy, out.state_j.cs)
+                    probe = xi + yi + ci + si + xj + yj + cj + sj
+                out.ok = out.ok & np.isfinite(probe)
                 states[step.group.link_i] = out.state_i
                 states[step.group.link_j] = out.state_j
                 outs[step.group.name] = out
