@@ -10,11 +10,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
-import shapely
 
 from ..errors import GeometryError
+
+if TYPE_CHECKING:  # pragma: no cover
+    import shapely
 
 #: turns smaller than this (rad) at a vertex count as tangent joins
 TANGENT_TOL = 1e-9
@@ -163,5 +166,8 @@ class Part:
         return Part(self.name, self.outer.moved(angle, offset), tuple(h.moved(angle, offset) for h in self.holes))
 
     def polygon(self, tol: float = 1e-3) -> shapely.Polygon:
-        """A shapely polygon inscribed in the part, chord sagitta ≤ ``tol`` mm."""
+        """A shapely polygon inscribed in the part, chord sagitta ≤ ``tol`` mm (shapely is imported
+        here: drawing and analysing a drive do not need it)."""
+        import shapely
+
         return shapely.Polygon(self.outer.polyline(tol), [h.polyline(tol) for h in self.holes])

@@ -12,7 +12,7 @@ import numpy as np
 from ..errors import GeometryError
 from ..model.geneva import Geneva
 from .geneva_contact import GenevaContact
-from .geneva_geometry import geometry
+from .geneva_geometry import GenevaGeometry, geometry
 from .geneva_kinematics import GenevaKinematics
 from .table import Table
 
@@ -40,8 +40,9 @@ def _deg(x: float) -> str:
     return f"{math.degrees(x):.4g}°"
 
 
-def summary(el: Geneva, kin: GenevaKinematics, con: GenevaContact) -> str:
-    """A human summary of the kinematics, the drawable geometry limits and the contact/wear model."""
+def summary(el: Geneva, kin: GenevaKinematics, con: GenevaContact, geo: GenevaGeometry | None = None) -> str:
+    """A human summary of the kinematics, the drawable geometry limits and the contact/wear model
+    (``geo``: the drive's geometry when the caller has it built, else it is built here)."""
     d = el.dimensions()
     w1 = el.omega1
     sense = "CCW" if w1 > 0 else "CW"
@@ -67,7 +68,7 @@ def summary(el: Geneva, kin: GenevaKinematics, con: GenevaContact) -> str:
         f"locking disc R_L {d.lock_disc_radius:.4f}",
     ]
     try:
-        geo = geometry(el)
+        geo = geo if geo is not None else geometry(el)
         rel = geo.relief
         lines.append(f"  relief of the locking disc (centre at A on the crank): {rel.drawn:.3f} mm drawn, "
                      f"{rel.exact:.5f} exact to clear by c_l = {el.clearance.lock:g}, {rel.touch:.5f} to avoid contact; "

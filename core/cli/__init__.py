@@ -4,20 +4,23 @@ Every number the GUI shows can be reproduced here: both read their results from 
 :class:`~mechsketch.core.workspace.Workspace`. Element types plug in through :data:`HANDLERS`: a
 module per type with the functions a command needs (see ``_handler``).
 Exit status: 0 ok, 1 a problem with the scene or the request (message on stderr), 2 usage.
+
+Start-up (issue 14): this module imports only argparse and the errors; each command imports what
+it uses when it runs (the scene reader, the workspace, the CSV writer; ``export`` the part
+builders, shapely and ezdxf), so ``analyze --summary`` pays for no drawing or DXF code.
 """
 from __future__ import annotations
 
 import argparse
 import importlib
 import sys
-from typing import Any, Sequence
+from typing import TYPE_CHECKING, Any, Callable, Sequence
 
 from ..errors import MechsketchError, Problem, StructureError
-from ..io.scene_file import load_scene, validate_file
-from ..io.table import write_csv
-from ..model.linkage import Linkage
-from ..workspace import Workspace
-from .export_cmds import add_export_parser, drawing_problems, run_export
+from .export_cmds import add_export_parser
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..workspace import Workspace
 
 #: element type -> module implementing its commands, each taking the workspace and the element id:
 #: ``analyze(ws, id) -> Analysis`` (samples: the workspace's override), ``synthesize(ws, id) ->
@@ -60,6 +63,8 @@ def _pick(scene, element_id: str | None, command: str):
 
 def _emit(analysis, csv_target: str | None, summary: bool) -> None:
     """Write the table and/or the summary; the summary goes to stderr when the CSV is on stdout."""
+    from ..io.table import write_csv
+
     if csv_target is not None:
         write_csv(analysis.table, csv_target)
     if summary or csv_target is None:
@@ -103,6 +108,8 @@ def build_parser() -> argparse.ArgumentParser:
 
 def _structure_problems(ws: Workspace) -> list[Problem]:
     """Linkages that load but cannot be solved (mobility, higher-class group, no driver yet)."""
+    from ..model.linkage import Linkage
+
     out = []
     for k, el in enumerate(ws.scene.elements):
         if isinstance(el, Linkage):
@@ -119,7 +126,12 @@ MAX_SAMPLES = 1_000_000
 
 def run(args: argparse.Namespace) -> int:
     """Run a parsed headless command; returns the exit status."""
+    from ..io.scene_file import load_scene, validate_file
+    from ..workspace import Workspace
+
     if args.command == "validate":
+        from .export_cmds import drawing_problems
+
         problems = validate_file(args.scene)
         if not problems:
             ws = Workspace(load_scene(args.scene))
@@ -139,11 +151,15 @@ def run(args: argparse.Namespace) -> int:
         ws.samples = args.samples
         _emit(_handler(el, "analyze_forces" if args.forces else "analyze")(ws, el.id), args.csv, args.summary)
     elif args.command == "export":
+        from .export_cmds import run_export
+
         print(run_export(ws, args))
     elif args.command == "synthesize":
         el = _pick(scene, args.element, "synthesize")
         _emit(_handler(el, "synthesize")(ws, el.id), args.csv, args.summary)
     elif args.command == "centrodes":
+        from ..io.table import write_csv
+
         el = _pick(scene, args.element, "centrodes")
         write_csv(_handler(el, "centrodes")(ws, el.id, args.link, args.relative_to, args.samples), args.csv)
     return 0
@@ -165,8 +181,18 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 class Analysis:
-    """A computed table plus its human summary (what ``analyze`` and ``synthesize`` return)."""
+    """A computed table plus its human summary (what ``analyze`` and ``synthesize`` return).
 
-    def __init__(self, table, summary: str) -> None:
+    ``summary`` may be given as text or as a function making it: it is made on first read, so a
+    command writing only the CSV does not compute what only the summary reports (a linkage's
+    diagnostics, a Geneva drive's drawn geometry)."""
+
+    def __init__(self, table, summary: "str | Callable[[], str]") -> None:
         self.table = table
-        self.summary = summary
+        self._summary = summary
+
+    @property
+    def summary(self) -> str:
+        if not isinstance(self._summary, str):
+            self._summary = self._summary()
+        return self._summary

@@ -6,19 +6,28 @@ exports).
                       [--parts P,...] [--split] [--arcs bulge|entities] [--tolerance MM]
                       [--min-web MM] [--boss-radius MM] [--bore-diameter MM] [--link-width MM]
                       [--frame plate|drill] [--depth MM]
+
+The part builders (shapely) and the writers (ezdxf) are imported by the functions that use them:
+building the parser, which every command does, imports neither.
 """
 from __future__ import annotations
 
 import argparse
 import sys
+from typing import TYPE_CHECKING
 
-from ..analyses.parts import LAYOUTS, require_checked
-from ..analyses.parts_build import DEFAULT_TOLERANCE, PartOptions, element_parts, min_web_of
 from ..errors import MechsketchError, Problem, RequestError, StructureError
-from ..io.dxf_parts import ARC_STYLES
-from ..io.export_parts import export_parts
-from ..model.linkage import Linkage
-from ..workspace import Workspace
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..analyses.parts_build import PartOptions
+    from ..workspace import Workspace
+
+#: the option choices and default of ``export`` as analyses.parts (LAYOUTS), io.dxf_parts
+#: (ARC_STYLES) and analyses.parts_build (DEFAULT_TOLERANCE, mm) define them, repeated so that
+#: the parser imports none of those modules (tests/core/test_cli_imports.py checks they agree)
+LAYOUTS = ("assembled", "apart")
+ARC_STYLES = ("bulge", "entities")
+DEFAULT_TOLERANCE = 0.001
 
 
 def add_export_parser(sub) -> argparse.ArgumentParser:
@@ -50,17 +59,24 @@ def add_export_parser(sub) -> argparse.ArgumentParser:
 
 def options_of(args: argparse.Namespace) -> PartOptions:
     """The part options of parsed ``export`` arguments."""
+    from ..analyses.parts_build import PartOptions
+
     return PartOptions(tolerance=args.tolerance, min_web=args.min_web, boss_radius=args.boss_radius,
                        bore_diameter=args.bore_diameter, link_width=args.link_width, frame=args.frame,
                        depth=args.depth)
 
 
 def _plan(ws: Workspace, el):
+    from ..model.linkage import Linkage
+
     return ws.plan(el.id) if isinstance(el, Linkage) else None
 
 
 def run_export(ws: Workspace, args: argparse.Namespace) -> str:
     """Build, check and write the parts; returns the report."""
+    from ..analyses.parts_build import element_parts, min_web_of
+    from ..io.export_parts import export_parts
+
     scene = ws.scene
     if args.element is not None:
         el = scene.element(args.element)
@@ -80,6 +96,9 @@ def run_export(ws: Workspace, args: argparse.Namespace) -> str:
 def drawing_problems(ws: Workspace) -> list[Problem]:
     """Elements that load but whose parts cannot be cut with the default options (the check the
     export runs): a drive that validates always exports."""
+    from ..analyses.parts import require_checked
+    from ..analyses.parts_build import PartOptions, element_parts, min_web_of
+
     out = []
     opts = PartOptions()
     for k, el in enumerate(ws.scene.elements):

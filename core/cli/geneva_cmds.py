@@ -19,7 +19,7 @@ def analyze(ws: Workspace, element_id: str) -> Analysis:
     res = ws.result(element_id)
     if res.kinematics is None or res.contact is None:
         raise res.exception
-    return Analysis(analysis_table(res.kinematics, res.contact), res.summary())
+    return Analysis(analysis_table(res.kinematics, res.contact), res.summary)
 
 
 def analyze_forces(ws: Workspace, element_id: str) -> Analysis:
@@ -32,6 +32,6 @@ def analyze_forces(ws: Workspace, element_id: str) -> Analysis:
                   np.column_stack([base.table.data, tq.torque]), set(base.table.integer))
     text = (f"crank torque (contact model, N·m, CCW +): peak {tq.peak:.6g} at φ "
             f"{np.degrees(tq.phi_peak):.2f}°, RMS {tq.rms:.6g}")
-    return Analysis(table, base.summary + "\n" + text)
+    return Analysis(table, lambda: base.summary + "\n" + text)
 
 

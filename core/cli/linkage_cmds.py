@@ -61,7 +61,7 @@ def analyze(ws: Workspace, element_id: str) -> Analysis:
     res = ws.result(element_id)
     if res.solution is None:
         raise res.exception
-    return Analysis(analysis_table(res.element, res.solution), res.summary())
+    return Analysis(analysis_table(res.element, res.solution), res.summary)
 
 
 def analyze_forces(ws: Workspace, element_id: str) -> Analysis:
@@ -70,7 +70,7 @@ def analyze_forces(ws: Workspace, element_id: str) -> Analysis:
     :mod:`mechsketch.core.analyses.forces_report`); the summary gains the forces summary."""
     base = analyze(ws, element_id)
     res = ws.forces(element_id)
-    return Analysis(force_table(res, base.table), base.summary + "\n" + force_summary(res))
+    return Analysis(force_table(res, base.table), lambda: base.summary + "\n" + force_summary(res))
 
 
 def centrodes(ws: Workspace, element_id: str, link: str, relative_to: str | None, samples: int | None

@@ -15,5 +15,5 @@ def synthesize(ws: Workspace, element_id: str) -> Analysis:
     res = ws.result(element_id)
     if res.synthesis is None:
         raise res.exception
-    return Analysis(res.synthesis.table(), res.summary())
+    return Analysis(res.synthesis.table(), res.summary)
 

@@ -3,21 +3,23 @@
 ``Workspace.open("scene.json")["sixbar"].solve(samples=3600)`` reads like a method of the model,
 but the model records know nothing of solvers: :class:`ElementView` is a thin handle above the
 layers that reads the record and asks the workspace (and so its caches) for every result.
+Each method imports the analysis it calls: importing the workspace (as every CLI command does)
+loads no analysis a command does not use (issue 14).
 """
 from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any, Iterable
 
-from ..analyses.forces import ForceResult
-from ..analyses.geneva_contact import GenevaContact, contact
-from ..analyses.geneva_geometry import GenevaGeometry, geometry
-from ..analyses.geneva_kinematics import GenevaKinematics, kinematics
-from ..analyses.rolling_synthesis import RollingSynthesis, synthesize
 from ..errors import RequestError
-from ..solver.dimensions import Dimension, SetDimension, dimensions
-from ..solver.plan import Plan, Solution
 
 if TYPE_CHECKING:  # pragma: no cover
+    from ..analyses.forces import ForceResult
+    from ..analyses.geneva_contact import GenevaContact
+    from ..analyses.geneva_geometry import GenevaGeometry
+    from ..analyses.geneva_kinematics import GenevaKinematics
+    from ..analyses.rolling_synthesis import RollingSynthesis
+    from ..solver.dimensions import Dimension
+    from ..solver.plan import Plan, Solution
     from .results import ElementResult
     from .workspace import Workspace
 
@@ -83,32 +85,44 @@ class ElementView:
     def dimensions(self) -> list[Dimension]:
         """Every length (mm) and angle (°) of the linkage, link by link: the dimension table
         (:mod:`mechsketch.core.solver.dimensions`)."""
+        from ..solver.dimensions import dimensions
+
         return dimensions(self._need("linkage"))
 
     def set_dimension(self, key: str, value: float) -> Any:
         """Set one dimension (``"length:crank:A:B"``, …) and re-assemble the linkage at its drawn
         input, as one undoable edit of the workspace: returns the inverse edit. Raises EditError
         naming the group that cannot close and by how much (nothing changes)."""
+        from ..solver.dimensions import SetDimension
+
         self._need("linkage")
         return self._ws.apply(SetDimension(self._id, key, value))
 
     # -- Geneva drives --------------------------------------------------------------------
     def kinematics(self, samples: int | None = None) -> GenevaKinematics:
         """Wheel angle, ω, α and jerk over one crank revolution (arrays (N,))."""
+        from ..analyses.geneva_kinematics import kinematics
+
         rec = self._need("geneva")
         return kinematics(rec, samples or rec.samples)
 
     def contact(self, samples: int | None = None, model: Any = None) -> GenevaContact:
         """Roller/slot contact and wear over one crank revolution (arrays (N,))."""
+        from ..analyses.geneva_contact import contact
+
         rec = self._need("geneva")
         return contact(rec, samples or rec.samples, model or rec.model)
 
     def geometry(self) -> GenevaGeometry:
         """The exact wheel, locking disc, crank arm and roller outlines (mm)."""
+        from ..analyses.geneva_geometry import geometry
+
         return geometry(self._need("geneva"))
 
     # -- rolling levers -------------------------------------------------------------------
     def synthesize(self, method: str | None = None, points: int | None = None, measures: bool = True
                    ) -> RollingSynthesis:
         """The rolling profiles (centrodes) with their slip measures."""
+        from ..analyses.rolling_synthesis import synthesize
+
         return synthesize(self._need("rolling_lever"), method=method, points=points, measures=measures)

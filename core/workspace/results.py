@@ -9,8 +9,9 @@ computed per animation frame:
   (on first access) the diagnostics, or the core's message when the linkage cannot be solved;
 
 - :class:`GenevaResult` - kinematics and contact/wear over one crank revolution (N = the element's
-  ``samples``), the exact drawable geometry (or why it cannot be built), and per frame the crank's
-  and the wheel's world rotations (rad) read from the kinematics;
+  ``samples``), the exact drawable geometry (or why it cannot be built; built on first access:
+  ``analyze --csv`` never needs it), and per frame the crank's and the wheel's world rotations
+  (rad) read from the kinematics;
 - :class:`RollingResult` - the synthesis (with the slip measures), the static curves (frame
   profile, slider profile in the slider frame, bicentrode) and :class:`RollingFrames`: one crank
   revolution from the folded dead centre when the element has a drive (``drive.frames(φ)``),
@@ -24,18 +25,11 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field
-from typing import Union
+from typing import TYPE_CHECKING, Union
 
 import numpy as np
 
-from ..analyses.geneva_contact import GenevaContact, contact
-from ..analyses.geneva_geometry import GenevaGeometry, geometry
-from ..analyses.geneva_kinematics import GenevaKinematics, kinematics
-from ..analyses.geneva_report import summary as geneva_summary
 from ..analyses.linkage_report import linkage_summary
-from ..analyses.rolling_geometry import pose_state
-from ..analyses.rolling_slip import SlipSamples
-from ..analyses.rolling_synthesis import RollingSynthesis, synthesize
 from ..errors import MechsketchError
 from ..model.drivers import input_text
 from ..model.geneva import Geneva
@@ -44,6 +38,13 @@ from ..model.rolling_lever import RollingLever
 from ..solver.diagnostics import Diagnostics, diagnose
 from ..solver.plan import Plan, Solution, compile_plan
 from .budget import check_request
+
+if TYPE_CHECKING:  # pragma: no cover  (imported by the solve of their element type: issue 14)
+    from ..analyses.geneva_contact import GenevaContact
+    from ..analyses.geneva_geometry import GenevaGeometry
+    from ..analyses.geneva_kinematics import GenevaKinematics
+    from ..analyses.rolling_slip import SlipSamples
+    from ..analyses.rolling_synthesis import RollingSynthesis
 
 #: frames of a rolling lever's animation cycle: 2·points, at least this many
 ROLLING_MIN_FRAMES = 360
@@ -156,15 +157,50 @@ class GenevaResult(_Result):
     element: Geneva
     kinematics: GenevaKinematics | None = None
     contact: GenevaContact | None = None
-    geometry: GenevaGeometry | None = None
     crank_rotation: np.ndarray = field(default_factory=lambda: np.zeros(0))
     wheel_rotation: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    error: str | None = None
-    exception: MechsketchError | None = field(default=None, repr=False)   # what ``error`` says
     seconds: float = 0.0
     _summary: str | None = field(default=None, repr=False)
+    _geometry: GenevaGeometry | None = field(default=None, repr=False)
+    _geometry_pending: bool = field(default=False, repr=False)   # True: build it on first access
+    _error: str | None = field(default=None, repr=False)
+    _exception: MechsketchError | None = field(default=None, repr=False)
 
     kind = "geneva"
+
+    def _build_geometry(self) -> None:
+        """Build the drawable geometry once (about 40 ms), on the first read of ``geometry``,
+        ``error``, ``exception`` or ``n_frames``; its time is added to ``seconds``."""
+        if not self._geometry_pending:
+            return
+        from ..analyses.geneva_geometry import geometry
+
+        self._geometry_pending = False
+        t0 = time.perf_counter()
+        try:
+            self._geometry = geometry(self.element)
+        except MechsketchError as exc:
+            self._error = f"cannot draw the drive: {_message(exc)}"
+            self._exception = exc.with_traceback(None)
+        self.seconds += time.perf_counter() - t0
+
+    @property
+    def geometry(self) -> GenevaGeometry | None:
+        """The exact drawable drive (None when it cannot be built: see ``error``)."""
+        self._build_geometry()
+        return self._geometry
+
+    @property
+    def error(self) -> str | None:
+        """The core's message when the drive or its drawing cannot be built, else None."""
+        self._build_geometry()
+        return self._error
+
+    @property
+    def exception(self) -> MechsketchError | None:
+        """The error ``error`` words (what the CLI re-raises)."""
+        self._build_geometry()
+        return self._exception
 
     @property
     def n_frames(self) -> int:
@@ -186,18 +222,25 @@ class GenevaResult(_Result):
         return np.degrees(self.kinematics.phi) if self.kinematics is not None else np.zeros(0)
 
     def summary(self) -> str:
-        """What ``mechsketch analyze SCENE --element ID --summary`` prints (computed once, on demand)."""
+        """What ``mechsketch analyze SCENE --element ID --summary`` prints (computed once, on demand;
+        it reports the relief of the drawn geometry, so it builds the geometry)."""
         if self._summary is None:
             if self.kinematics is None or self.contact is None:
                 self._summary = f"geneva {self.element.id!r}: {self.error}"
             else:
-                self._summary = geneva_summary(self.element, self.kinematics, self.contact)
+                from ..analyses.geneva_report import summary as geneva_summary
+
+                self._summary = geneva_summary(self.element, self.kinematics, self.contact, self.geometry)
         return self._summary
 
 
 def solve_geneva(element: Geneva, samples: int | None = None) -> GenevaResult:
-    """Kinematics, contact/wear and the drawable geometry of ``element`` at ``samples`` points
-    (default the element's); the per-frame rotations. Never raises for a bad drive."""
+    """Kinematics and contact/wear of ``element`` at ``samples`` points (default the element's)
+    and the per-frame rotations; the drawable geometry is built when first read. Never raises
+    for a bad drive."""
+    from ..analyses.geneva_contact import contact
+    from ..analyses.geneva_kinematics import kinematics
+
     t0 = time.perf_counter()
     res = GenevaResult(element)
     n = int(samples or element.samples)
@@ -206,16 +249,13 @@ def solve_geneva(element: Geneva, samples: int | None = None) -> GenevaResult:
         res.kinematics = kinematics(element, n)
         res.contact = contact(element, n, element.model)
     except MechsketchError as exc:
-        res.error, res.exception = _message(exc), exc.with_traceback(None)
+        res._error, res._exception = _message(exc), exc.with_traceback(None)
         res.seconds = time.perf_counter() - t0
         return res
     direction = math.radians(element.wheel_direction_deg)
     res.crank_rotation = direction + res.kinematics.phi
     res.wheel_rotation = direction + res.kinematics.wheel_angle
-    try:
-        res.geometry = geometry(element)
-    except MechsketchError as exc:
-        res.error, res.exception = f"cannot draw the drive: {_message(exc)}", exc.with_traceback(None)
+    res._geometry_pending = True
     res.seconds = time.perf_counter() - t0
     return res
 
@@ -305,6 +345,8 @@ class RollingResult(_Result):
 
 def _rolling_frames(res: RollingSynthesis, n: int) -> RollingFrames:
     """The animation cycle (see :class:`RollingFrames`)."""
+    from ..analyses.rolling_geometry import pose_state
+
     k = np.arange(n, dtype=float)
     drive = res.drive
     if drive is not None:
@@ -332,6 +374,8 @@ def solve_rolling(element: RollingLever, measures: bool = True) -> RollingResult
     """Synthesise ``element`` (with the slip measures unless ``measures`` is False: a drag preview
     re-synthesises in about 5 ms, the measures take some 50 ms more) and precompute its frames
     and curves."""
+    from ..analyses.rolling_synthesis import synthesize
+
     t0 = time.perf_counter()
     out = RollingResult(element)
     try:
