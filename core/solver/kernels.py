@@ -103,8 +103,10 @@ def crank(pivot: complex, a0_angle: float, inputs: Arr, omega: float | Arr, alph
           order: int) -> LinkState:
     """The driver: rotation about a ground pivot by ``inputs − a0_angle`` (rad)."""
     th = inputs - a0_angle
-    xy = (np.full(inputs.shape, pivot.real), np.full(inputs.shape, pivot.imag))
-    st = LinkState.real(pivot, xy, (np.cos(th), np.sin(th)))
+    x, y = np.empty(inputs.shape), np.empty(inputs.shape)
+    x.fill(pivot.real)
+    y.fill(pivot.imag)
+    st = LinkState.real(pivot, (x, y), (np.cos(th), np.sin(th)))
     if order >= 1:
         st.vxy, st.omega = (0.0, 0.0), omega
     if order >= 2:
@@ -166,7 +168,8 @@ def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: co
     mx, my = m_state.point_xy(m0)
     hx, hy = h_state.point_xy(h0)
     dx, dy = hx - mx, hy - my
-    D = np.sqrt(dx * dx + dy * dy)
+    D2 = dx * dx + dy * dy
+    D = np.sqrt(D2)
     # Heron in factored form: accurate near toggles (paper eq. 1 via atan2/Heron, notes §A)
     f1, f2, f3 = li + lj - D, D - li + lj, D + li - lj
     prod = (D + li + lj) * f1 * f2 * f3
@@ -178,7 +181,7 @@ def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: co
     # L in polar form, |L − M| = li exactly. (x, h) lose accuracy like eps·li²/D where M and H
     # nearly coincide (li ≈ lj), and the Cartesian form then left the loop open by up to li.
     # The common factor 1/(2D) of x and h cancels in q/|q|.
-    x = (li - lj) * (li + lj) + D * D
+    x = (li - lj) * (li + lj) + D2
     h = root if (flip is None and mode0 == 1.0) else mode * root
     t = li / (np.sqrt(x * x + h * h) * D)
     x = x * t

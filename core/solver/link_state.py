@@ -153,7 +153,7 @@ class LinkState:
     # -- real arithmetic -----------------------------------------------------------------------
     def rotate(self, v0: complex) -> Pair:
         """The drawn vector ``v0`` turned with the link: (x, y) of rot·v0."""
-        c, s = self.cs
+        c, s = self._rot_xy or self.cs
         vr, vi = v0.real, v0.imag
         if vi == 0.0:
             return c * vr, s * vr
@@ -169,7 +169,7 @@ class LinkState:
         e = pts.get(p0)
         if e is None:
             d = p0 - self.a0
-            x, y = self.xy
+            x, y = self._A_xy or self.xy
             if d == 0:
                 e = [(0.0, 0.0), (x, y)]
             else:
@@ -194,20 +194,28 @@ class LinkState:
 
     def vel_xy(self, arm: Pair) -> Pair:
         """Velocity (x, y) of the link point at ``arm`` from the anchor: vA + ω·J·arm, mm/s."""
-        vx, vy = self.vxy
+        vx, vy = self._vA_xy or self.vxy
         w = self.omega
         ax, ay = arm
-        if np.ndim(w) == 0 and w == 0.0:
-            return vx, vy
+        if isinstance(w, float):       # scalars: skip the passes that add or multiply by zero
+            if w == 0.0:
+                return vx, vy
+            if isinstance(vx, float) and isinstance(vy, float) and vx == 0.0 and vy == 0.0:
+                return (-w) * ay, w * ax
         return vx - w * ay, vy + w * ax
 
     def acc_xy(self, arm: Pair) -> Pair:
         """Acceleration (x, y) of the link point at ``arm``: aA + (α·J − ω²)·arm, mm/s²."""
-        gx, gy = self.axy
+        gx, gy = self._aA_xy or self.axy
         w, al = self.omega, self.alpha
         ax, ay = arm
-        if np.ndim(w) == 0 and np.ndim(al) == 0 and w == 0.0 and al == 0.0:
-            return gx, gy
+        if isinstance(al, float) and al == 0.0:
+            if isinstance(w, float) and w == 0.0:
+                return gx, gy
+            w2 = -(w * w)
+            if isinstance(gx, float) and isinstance(gy, float) and gx == 0.0 and gy == 0.0:
+                return w2 * ax, w2 * ay
+            return gx + w2 * ax, gy + w2 * ay
         w2 = w * w
         return gx - w2 * ax - al * ay, gy - w2 * ay + al * ax
 

@@ -58,6 +58,8 @@ class Plan:
     #: how the input enters (crank, slider, cylinder: :mod:`.drive`); ``theta0`` is its drawn input
     drive: CrankDrive | None = field(default=None, repr=False)
     _local: "Plan | None" = field(default=None, repr=False)
+    #: joint -> (link whose frame reports it, drawn position): the lookup of every extraction
+    joint_at: dict[str, tuple[str, complex]] = field(default_factory=dict, repr=False)
 
     def local(self) -> "Plan":
         """This plan for the linkage moved so that its driver pivot sits at the origin (the
@@ -344,7 +346,9 @@ def compile_plan(linkage: Linkage, groups: list[Group] | None = None) -> Plan:
         v = pts[1] - pts[0] if len(pts) == 2 else 0j
         angle0[lk.id] = math.atan2(v.imag, v.real) if abs(v) > 0 else 0.0
     coord = max((abs(_c(j.at)) for j in linkage.joints), default=0.0)
-    return Plan(linkage, groups, steps, pivot, theta0, reporter, angle0, solved_by, coord, drive=drive)
+    joint_at = {j.id: (reporter[j.id], _c(j.at)) for j in linkage.joints}
+    return Plan(linkage, groups, steps, pivot, theta0, reporter, angle0, solved_by, coord, drive=drive,
+                joint_at=joint_at)
 
 
 def _xy(z: np.ndarray, n: int) -> np.ndarray:
@@ -395,6 +399,7 @@ class Solution:
         self.elapsed = elapsed
         self._states = states
         self._outs = outs
+        self._n = inputs.shape[0]
         self._all_valid = bool(valid.all())
         self._rates_valid: np.ndarray | None = None
 
@@ -465,10 +470,11 @@ class Solution:
             raise RequestError(f"{what} needs a solve with order >= {order} (this one has order {self.order})")
 
     def _joint(self, joint: str) -> tuple[K.LinkState, complex]:
-        lk = self.plan.linkage
-        if joint not in self.plan.reporter:
-            raise UnknownIdError(f"linkage {lk.id!r} has no joint {joint!r}")
-        return self._state(self.plan.reporter[joint]), _c(lk.joint(joint).at)
+        e = self.plan.joint_at.get(joint)
+        if e is None:
+            raise UnknownIdError(f"linkage {self.plan.linkage.id!r} has no joint {joint!r}")
+        st = self._states.get(e[0])
+        return (self._state(e[0]) if st is None else st), e[1]
 
     def link_state(self, link: str) -> K.LinkState:
         """The kernel state of ``link`` (anchor, rotation and their rates: complex/float (N,) or
@@ -481,21 +487,26 @@ class Solution:
     def position(self, joint: str) -> np.ndarray:
         """(N, 2) position of ``joint``, mm."""
         st, p0 = self._joint(joint)
-        return self._mask(_xy2(st.point_xy(p0), len(self)))
+        out = _xy2(st.point_xy(p0), self._n)
+        return out if self._all_valid else self._mask(out)
 
     def velocity(self, joint: str) -> np.ndarray:
         """(N, 2) velocity, mm/s."""
-        self._need(1, "velocity")
+        if self.order < 1:
+            self._need(1, "velocity")
         st, p0 = self._joint(joint)
         with np.errstate(invalid="ignore", over="ignore"):
-            return self._mask(_xy2(st.vel_xy(st.arm_xy(p0)), len(self)))
+            out = _xy2(st.vel_xy(st.arm_xy(p0)), self._n)
+        return out if self._all_valid else self._mask(out)
 
     def acceleration(self, joint: str) -> np.ndarray:
         """(N, 2) acceleration, mm/s²."""
-        self._need(2, "acceleration")
+        if self.order < 2:
+            self._need(2, "acceleration")
         st, p0 = self._joint(joint)
         with np.errstate(invalid="ignore", over="ignore"):
-            return self._mask(_xy2(st.acc_xy(st.arm_xy(p0)), len(self)))
+            out = _xy2(st.acc_xy(st.arm_xy(p0)), self._n)
+        return out if self._all_valid else self._mask(out)
 
     def point(self, link: str, xy) -> np.ndarray:
         """(N, 2) position of the point of ``link`` drawn at ``xy`` (mm)."""
