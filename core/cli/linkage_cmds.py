@@ -2,14 +2,16 @@
 (the same table with the force columns, and the forces summary) and ``centrodes``."""
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
-from ..analyses.centrodes import linkage_centrodes
-from ..analyses.forces_report import force_summary, force_table
 from ..analyses.table import Table
-from ..model.linkage import Linkage
-from ..workspace import Workspace
 from . import Analysis
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..model.linkage import Linkage
+    from ..workspace import Workspace
 
 
 RATE_COLUMNS = ("vx", "vy", "ax", "ay", "omega", "alpha")
@@ -68,6 +70,8 @@ def analyze_forces(ws: Workspace, element_id: str) -> Analysis:
     """:func:`analyze` plus the kinetostatics: the table gains ``driver.torque``, ``J.Fx J.Fy``
     per revolute joint and ``shaking.Fx shaking.Fy shaking.M`` (N, N·m; see
     :mod:`mechsketch.core.analyses.forces_report`); the summary gains the forces summary."""
+    from ..analyses.forces_report import force_summary, force_table
+
     base = analyze(ws, element_id)
     res = ws.forces(element_id)
     return Analysis(force_table(res, base.table), lambda: base.summary + "\n" + force_summary(res))
@@ -76,5 +80,7 @@ def analyze_forces(ws: Workspace, element_id: str) -> Analysis:
 def centrodes(ws: Workspace, element_id: str, link: str, relative_to: str | None, samples: int | None
               ) -> Table:
     """Instant centres of ``link`` (relative to the frame or ``relative_to``) as a CSV table."""
+    from ..analyses.centrodes import linkage_centrodes
+
     sol = ws.solve(element_id, samples=samples, order=1)
     return linkage_centrodes(sol, ws.element(element_id), link, relative_to).table()

@@ -32,14 +32,14 @@ import numpy as np
 from ..analyses.linkage_report import linkage_summary
 from ..errors import MechsketchError
 from ..model.drivers import input_text
-from ..model.geneva import Geneva
 from ..model.linkage import Linkage
-from ..model.rolling_lever import RollingLever
 from ..solver.diagnostics import Diagnostics, diagnose
 from ..solver.plan import Plan, Solution, compile_plan
 from .budget import check_request
 
 if TYPE_CHECKING:  # pragma: no cover  (imported by the solve of their element type: issue 14)
+    from ..model.geneva import Geneva
+    from ..model.rolling_lever import RollingLever
     from ..analyses.geneva_contact import GenevaContact
     from ..analyses.geneva_geometry import GenevaGeometry
     from ..analyses.geneva_kinematics import GenevaKinematics
@@ -405,8 +405,9 @@ def solve_element(element, samples: int | None = None, measures: bool = True) ->
     None for an element type this version does not solve."""
     if isinstance(element, Linkage):
         return solve_linkage(element, samples)
-    if isinstance(element, Geneva):
+    kind = getattr(element, "type", None)   # the record's own tag: no import of the other models
+    if kind == "geneva":
         return solve_geneva(element, samples)
-    if isinstance(element, RollingLever):
+    if kind == "rolling_lever":
         return solve_rolling(element, measures)
     return None
