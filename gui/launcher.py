@@ -12,6 +12,9 @@ HEADLESS = {"analyze", "validate", "export", "synthesize", "centrodes"}
 
 def main(argv: Sequence[str] | None = None) -> int:
     """``mechsketch`` with no arguments opens the app on a built-in example; ``open SCENE`` a file."""
+    from mechsketch.core.runtime import tune_allocator
+
+    tune_allocator()   # glibc malloc keeps the sweeps' arrays (ctypes only; before numpy is imported)
     args = list(sys.argv[1:] if argv is None else argv)
     if args and args[0] in HEADLESS | {"-h", "--help"}:
         from mechsketch.core.cli import main as cli_main

@@ -17,6 +17,7 @@ import sys
 from typing import TYPE_CHECKING, Any, Callable, Sequence
 
 from ..errors import MechsketchError, Problem, StructureError
+from ..runtime import tune_allocator
 from .export_cmds import add_export_parser
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -167,6 +168,7 @@ def run(args: argparse.Namespace) -> int:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the headless commands (``mechsketch.gui.launcher`` adds the app)."""
+    tune_allocator()   # before any array is allocated (core/runtime.py); once per process
     parser = build_parser()
     args = parser.parse_args(argv)
     if args.command in (None, "open"):
