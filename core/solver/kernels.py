@@ -116,24 +116,30 @@ def crank(pivot: complex, a0_angle: float, inputs: Arr, omega: float | Arr, alph
 
 def _full(v, shape):
     """``v`` as an array of ``shape`` if it is a scalar (rates of a slider keep the samples' shape)."""
-    return np.full(shape, v) if np.ndim(v) == 0 and shape else v
+    return np.full(shape, v) if shape and (not isinstance(v, np.ndarray) or v.ndim == 0) else v
+
+
+def _plus(a, b):
+    """a + b, without the pass when ``a`` is a scalar zero."""
+    return b if isinstance(a, float) and a == 0.0 else a + b
 
 
 def _slider(g: LinkState, s0: complex, u0: complex, s: Arr, sd: Arr | None, sdd: Arr | None,
-            order: int, guide: tuple | None = None) -> LinkState:
+            order: int, guide: tuple | None = None, still: bool | None = None) -> LinkState:
     """State of a link translating along a guide of link ``g`` (axis through drawn s0, dir u0),
     displaced by ``s`` (mm) with rates ``sd``, ``sdd``. ``guide``: (arm, z, u) of the guide point
-    and direction as (x, y) pairs, if already computed."""
+    and direction as (x, y) pairs, if already computed; ``still``: ``g.still()``, if known."""
     if guide is None:
         guide = (g.arm_xy(s0), g.point_xy(s0), g.rotate(u0))
     arm, (zx, zy), (ux, uy) = guide
     st = LinkState.real(s0, (zx + s * ux, zy + s * uy), g.cs)
     shape = np.shape(s)
-    still = g.still()
+    if still is None:
+        still = g.still()
     if order >= 1:
         vzx, vzy = g.vel_xy(arm)
         if still:
-            st.vxy = (_full(vzx + sd * ux, shape), _full(vzy + sd * uy, shape))
+            st.vxy = (_full(_plus(vzx, sd * ux), shape), _full(_plus(vzy, sd * uy), shape))
         else:
             ws = g.omega * s
             st.vxy = (vzx + sd * ux - ws * uy, vzy + sd * uy + ws * ux)
@@ -141,7 +147,7 @@ def _slider(g: LinkState, s0: complex, u0: complex, s: Arr, sd: Arr | None, sdd:
     if order >= 2:
         azx, azy = g.acc_xy(arm)
         if still:
-            st.axy = (_full(azx + sdd * ux, shape), _full(azy + sdd * uy, shape))
+            st.axy = (_full(_plus(azx, sdd * ux), shape), _full(_plus(azy, sdd * uy), shape))
         else:
             w = g.omega
             p = sdd - w * w * s                  # (sdd + 2iω·sd + (iα − ω²)·s)·u = (p + iq)·u
@@ -266,7 +272,7 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
             qx, qy = qx - aLx + cor * uy, qy - aLy - cor * ux    # eq. 7
         sdd = (qx * rix + qy * riy) * inv
         si.axy, si.alpha = aM, (uy * qx - ux * qy) * inv
-    sj = _slider(g, s0, u0, s, sd, sdd, order, (armz, (zx, zy), (ux, uy)))
+    sj = _slider(g, s0, u0, s, sd, sdd, order, (armz, (zx, zy), (ux, uy)), still)
     sx, sy = sj.xy
     return DyadOut(si, sj, ok, cond, gap, int(mode0), (Slide(s, sd, sdd),), probe=lx + ly + (sx + sy))
 

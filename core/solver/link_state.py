@@ -221,9 +221,9 @@ class LinkState:
 
     def still(self) -> bool:
         """No motion at all (the frame): scalar zero rates."""
-        w, al, a = self.omega, self.alpha, self.axy
-        return (w is not None and np.ndim(w) == 0 and w == 0.0 and _zero(self.vxy)
-                and (al is None or (np.ndim(al) == 0 and al == 0.0)) and (a is None or _zero(a)))
+        w, al, a = self.omega, self.alpha, self._aA_xy or self.axy
+        return (isinstance(w, float) and w == 0.0 and _zero(self._vA_xy or self.vxy)
+                and (al is None or (isinstance(al, float) and al == 0.0)) and (a is None or _zero(a)))
 
     # -- complex views ---------------------------------------------------------------------------
     def point(self, p0: complex) -> Arr:
@@ -240,7 +240,9 @@ class LinkState:
 
 
 def _zero(p: Pair | None) -> bool:
-    return p is not None and np.ndim(p[0]) == 0 and np.ndim(p[1]) == 0 and p[0] == 0.0 and p[1] == 0.0
+    """A pair of scalar zeros."""
+    return (p is not None and isinstance(p[0], float) and isinstance(p[1], float)
+            and p[0] == 0.0 and p[1] == 0.0)
 
 
 def ground_state() -> LinkState:
