@@ -87,51 +87,80 @@ def _leaves_flipped(plan: "Plan", k: int, idx: list[int], known: dict[str, np.nd
 
 def find_branch_points(plan: "Plan", steps, known: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
     """Add to ``known`` the branch-point offsets (rad, sorted, in [0, 2π]) of the groups of
-    ``steps`` (indices closed under dependencies, in solving order), keyed by group name.
+    ``steps`` (indices in solving order; a step they depend on is solved with the offsets
+    ``known`` has for it, none if it has none), keyed by group name.
+
+    One pass in solving order at the reference samples (``REF_SAMPLES`` inputs over one turn):
+    each group runs once on the link states of the groups before it, which carry their own
+    branch offsets (found just before, or known), so the cost is linear in the number of groups;
+    only a group with a candidate touch re-runs its chain at the single inputs of the refinement.
 
     Decided on :meth:`Plan.local` (the driver pivot at the origin), so that the same linkage
     anywhere in the plane has the same branch points. A branch point at the drawn pose itself is
     stored as 0.0 (the motion leaves it in the other mode: every sample flips) or 2π (it leaves
     in the drawn mode; the point is crossed once per turn)."""
     lp = plan.local()
+    todo = {k for k in steps if lp.steps[k].group.name not in known}
+    if not todo:
+        return known
     sg = lp.direction
     delta = np.arange(REF_SAMPLES) * (TWO_PI / REF_SAMPLES)
     inputs = lp.theta0 + sg * delta
     step_h = TWO_PI / REF_SAMPLES
-    for k in sorted(steps):
+    run = lp._needed([link for k in todo for link in lp.steps[k].needs]) | todo
+    states: dict = {}   # link -> state at the reference inputs, filled in solving order
+    for k in sorted(run):
         step = lp.steps[k]
         name = step.group.name
-        if name in known:
-            continue
-        if step.group.kind not in MODAL_KINDS or step.group.fixed:  # fixed: it does not move
+        search = k in todo and name not in known
+        if search and (step.group.kind not in MODAL_KINDS or step.group.fixed):   # fixed: it does not move
             known[name] = np.empty(0)
+            search = False
+        out = lp.run_steps(inputs, 0, [k], known, states=states)[name]
+        if not search:
             continue
-        idx = lp.closure(k)
-        out = lp.run_steps(inputs, 0, idx, known)[name]
-        ok = out.ok if out.singular is None else out.ok | out.singular   # assembled
-        gap = np.where(ok, out.gap, -np.inf)
-        good = ok & np.roll(ok, 1) & np.roll(ok, -1)
-        cand = np.flatnonzero(good & (gap <= np.roll(gap, 1)) & (gap <= np.roll(gap, -1))
-                              & (gap < CANDIDATE * step.scale))
-        thr = BRANCH_REL * (step.scale + step.coord)
-
-        def margin(d: float) -> float:
-            """The signed margin (an overlap within the kernels' tolerance is a minimum below
-            zero, not a touch: its |margin| would vanish where it crosses zero)."""
-            o = lp.run_steps(np.array([lp.theta0 + sg * d]), 0, idx, known)[name]
-            return float(o.gap[0]) if np.isfinite(o.gap[0]) else math.inf
-
-        found: list[float] = []
-        for c in cand:
-            d, f = golden_min(margin, delta[c] - step_h, delta[c] + step_h)
-            d %= TWO_PI
-            if abs(f) <= thr and all(_apart(d, e) for e in found):
-                found.append(d)
-        if abs(margin(0.0)) <= thr:   # drawn at a branch point: it says nothing about the mode after it
-            found = [d for d in found if min(d, TWO_PI - d) > DRAWN_NEAR]
-            found.append(0.0 if _leaves_flipped(lp, k, idx, known, found) else TWO_PI)
-        known[name] = np.array(sorted(found))
+        known[name] = _search_group(lp, k, out, delta, step_h, known)
+        if known[name].size:   # the groups after it see it in its own mode on each side of them
+            lp.run_steps(inputs, 0, [k], known, states=states)
     return known
+
+
+def _search_group(lp: "Plan", k: int, out, delta: np.ndarray, step_h: float,
+                  known: dict[str, np.ndarray]) -> np.ndarray:
+    """The sorted branch offsets of step ``k`` of the local plan ``lp`` from its output ``out``
+    at the reference offsets ``delta`` (rad, (REF_SAMPLES,)) in its drawn mode: sampled local
+    minima of the assembly margin refined by golden-section search on its chain of steps."""
+    step = lp.steps[k]
+    name = step.group.name
+    sg = lp.direction
+    ok = out.ok if out.singular is None else out.ok | out.singular   # assembled
+    gap = np.where(ok, out.gap, -np.inf)
+    good = ok & np.roll(ok, 1) & np.roll(ok, -1)
+    cand = np.flatnonzero(good & (gap <= np.roll(gap, 1)) & (gap <= np.roll(gap, -1))
+                          & (gap < CANDIDATE * step.scale))
+    thr = BRANCH_REL * (step.scale + step.coord)
+    idx = None
+
+    def margin(d: float) -> float:
+        """The signed margin (an overlap within the kernels' tolerance is a minimum below
+        zero, not a touch: its |margin| would vanish where it crosses zero)."""
+        o = lp.run_steps(np.array([lp.theta0 + sg * d]), 0, idx, known)[name]
+        return float(o.gap[0]) if np.isfinite(o.gap[0]) else math.inf
+
+    at_drawn = out.gap[0] if np.isfinite(out.gap[0]) else math.inf   # delta[0] == 0: the drawn pose
+    if cand.size == 0 and abs(at_drawn) > 4.0 * thr:   # (the margin below is the same to an ulp)
+        return np.empty(0)
+    idx = lp.closure(k)
+    found: list[float] = []
+    for c in cand:
+        d, f = golden_min(margin, delta[c] - step_h, delta[c] + step_h)
+        d %= TWO_PI
+        if abs(f) <= thr and all(_apart(d, e) for e in found):
+            found.append(d)
+    if abs(margin(0.0)) <= thr:   # drawn at a branch point: it says nothing about the mode after it
+        found = [d for d in found if min(d, TWO_PI - d) > DRAWN_NEAR]
+        found.append(0.0 if _leaves_flipped(lp, k, idx, known, found) else TWO_PI)
+    return np.array(sorted(found))
 
 
 def flip_factor(offsets: np.ndarray | None, inputs: np.ndarray, theta0: float, direction: float
