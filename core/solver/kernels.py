@@ -119,6 +119,14 @@ def _full(v, shape):
     return np.full(shape, v) if shape and (not isinstance(v, np.ndarray) or v.ndim == 0) else v
 
 
+def _minus(a: tuple, b: tuple) -> tuple:
+    """(x, y) of a − b, without passes when ``b`` is a pair of scalar zeros."""
+    bx, by = b
+    if isinstance(bx, float) and isinstance(by, float) and bx == 0.0 and by == 0.0:
+        return a
+    return a[0] - bx, a[1] - by
+
+
 def _plus(a, b):
     """a + b, without the pass when ``a`` is a scalar zero."""
     return b if isinstance(a, float) and a == 0.0 else a + b
@@ -178,7 +186,7 @@ def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: co
     D = np.sqrt(D2)
     # Heron in factored form: accurate near toggles (paper eq. 1 via atan2/Heron, notes §A)
     f1, f2, f3 = li + lj - D, D - li + lj, D + li - lj
-    prod = (D + li + lj) * f1 * f2 * f3
+    prod = (D + (li + lj)) * f1 * f2 * f3
     gap = np.minimum(np.minimum(f1, f2), f3)
     root, ok = _sqrt_ok(prod, gap, tol)
     singular = ok & (D <= near)
@@ -202,17 +210,18 @@ def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: co
     det = riy * rjx - rix * rjy
     cond = np.abs(det) / (li * lj)
     if order >= 1:
-        inv = -1.0 / det
+        inv = 1.0 / det
         vM, vH = m_state.vel_xy(armM), h_state.vel_xy(armH)
-        wx, wy = vH[0] - vM[0], vH[1] - vM[1]
+        wx, wy = _minus(vM, vH)                          # −(right-hand side)
         wi = (wx * rjx + wy * rjy) * inv
         wj = (rix * wx + riy * wy) * inv
         si.vxy, si.omega, sj.vxy, sj.omega = vM, wi, vH, wj
     if order >= 2:
         aM, aH = m_state.acc_xy(armM), h_state.acc_xy(armH)
         wi2, wj2 = wi * wi, wj * wj
-        qx = aH[0] - aM[0] + wi2 * rix - wj2 * rjx       # eq. 3
-        qy = aH[1] - aM[1] + wi2 * riy - wj2 * rjy
+        qx, qy = _minus(aM, aH)                          # −(eq. 3's right-hand side)
+        qx = qx - wi2 * rix + wj2 * rjx
+        qy = qy - wi2 * riy + wj2 * rjy
         si.axy, si.alpha = aM, (qx * rjx + qy * rjy) * inv
         sj.axy, sj.alpha = aH, (rix * qx + riy * qy) * inv
     # L finite: M and L − M are; with H finite both links' states are
