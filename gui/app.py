@@ -70,10 +70,7 @@ def qapplication(argv: list[str] | None = None) -> QApplication:
     app.setApplicationDisplayName("mechsketch")
     if "fusion" in [s.lower() for s in _styles()]:
         app.setStyle("Fusion")
-    import pyqtgraph as pg
-
-    pg.setConfigOptions(antialias=True, background="w", foreground="k")
-    return app
+    return app   # pyqtgraph's options are set where it is imported (gui/panels/plots.py), after the first frame
 
 
 def _styles() -> list[str]:

@@ -5,6 +5,11 @@ plots (right). Menus File / Edit / View / Tools / Examples / Help, a toolbar and
 Components never import each other: they talk through the :class:`SceneController`'s signals, and
 the canvas parts (view, tools, animation player, scrub bar) come in through :class:`Components`,
 so the window can be built with stand-ins.
+
+Start-up (issue 14): the first frame does not wait for what it does not show. The plots panel
+(pyqtgraph, about 0.2 s to import) is made right after the window's first frame is painted
+(:class:`LazyDock`), or at once when code asks for :attr:`MainWindow.plots`; the part exporter
+(shapely, the part builders) is made on the first export or on :attr:`MainWindow.exporter`.
 """
 from __future__ import annotations
 
@@ -17,16 +22,13 @@ from PySide6.QtGui import QAction, QCloseEvent, QKeySequence
 from PySide6.QtWidgets import QDockWidget, QLabel, QMainWindow, QMenu, QVBoxLayout, QWidget
 
 from mechsketch.core import ExportError
-from mechsketch.core.analyses.parts_build import PartOptions, min_web_of, part_names
 
 from .autosave import Autosave
 from .controller import SceneController
 from .dialogs import DialogService
 from .selection import ELEMENT
-from .export_worker import DxfExporter, ExportStatus, exportable
 from .file_ops import FileOps
 from .panels.diagnostics import DiagnosticsPanel
-from .panels.plots import PlotsPanel
 from .panels.properties import PropertiesPanel
 
 
@@ -107,11 +109,10 @@ class MainWindow(QMainWindow):
         self.setCentralWidget(central)
         self.properties = PropertiesPanel(controller)
         self.diagnostics = DiagnosticsPanel(controller)
-        self.plots = PlotsPanel(controller)
         self.docks = {
             "properties": self._dock("Properties", self.properties, Qt.DockWidgetArea.LeftDockWidgetArea),
             "diagnostics": self._dock("Diagnostics", self.diagnostics, Qt.DockWidgetArea.LeftDockWidgetArea),
-            "plots": self._dock("Plots", self.plots, Qt.DockWidgetArea.RightDockWidgetArea),
+            "plots": self._dock("Plots", self._make_plots, Qt.DockWidgetArea.RightDockWidgetArea),
         }
         self.layout_restored = self.restore_layout()
         self._docks_sized = self.layout_restored
@@ -122,9 +123,7 @@ class MainWindow(QMainWindow):
         self._make_toolbar()
         self.frame_label = QLabel()
         self.solve_label = QLabel()
-        self.exporter = DxfExporter(self)
-        self.export_status = ExportStatus(self.exporter)
-        self.statusBar().addPermanentWidget(self.export_status)
+        self._exporter = None
         self.statusBar().addPermanentWidget(self.cursor_label)
         self.statusBar().addPermanentWidget(self.solve_label)
         self.statusBar().addPermanentWidget(self.frame_label)
@@ -136,20 +135,52 @@ class MainWindow(QMainWindow):
         controller.changed.connect(self._on_changed)
         controller.frameChanged.connect(self._update_frame)
         file_ops.recentChanged.connect(self._fill_recent)
-        self.exporter.finished.connect(self._export_finished)
-        self.exporter.failed.connect(self._export_failed)
-        self.exporter.cancelled.connect(self.show_message)
-        self.plots.add_header_actions([self.actions["export_png"], self.actions["export_csv"]])
         self.update_title()
         self._update_status()
 
     # -- construction helpers ----------------------------------------------------------------
-    def _dock(self, title: str, widget: QWidget, area: Qt.DockWidgetArea) -> QDockWidget:
-        dock = QDockWidget(title, self)
+    def _dock(self, title: str, widget: QWidget | Callable[[], QWidget], area: Qt.DockWidgetArea) -> QDockWidget:
+        """A dock holding ``widget``, or (a function) the widget it makes after the first frame."""
+        dock = QDockWidget(title, self) if isinstance(widget, QWidget) else LazyDock(title, self, widget)
         dock.setObjectName(f"dock:{title}")
-        dock.setWidget(widget)
+        if isinstance(widget, QWidget):
+            dock.setWidget(widget)
         self.addDockWidget(area, dock)
         return dock
+
+    def _make_plots(self) -> QWidget:
+        from .panels.plots import PlotsPanel
+
+        plots = PlotsPanel(self.controller)
+        plots.add_header_actions([self.actions["export_png"], self.actions["export_csv"]])
+        return plots
+
+    @property
+    def plots(self):
+        """The plots panel (:class:`~mechsketch.gui.panels.plots.PlotsPanel`), made now if the
+        window has not made it yet."""
+        return self.docks["plots"].widget()
+
+    @property
+    def exporter(self):
+        """The part exporter (:class:`~mechsketch.gui.export_worker.DxfExporter`), made on first use
+        with its status-bar widget :attr:`export_status`."""
+        if self._exporter is None:
+            from .export_worker import DxfExporter, ExportStatus
+
+            self._exporter = DxfExporter(self)
+            self._export_status = ExportStatus(self._exporter)
+            self.statusBar().insertPermanentWidget(0, self._export_status)
+            self._exporter.finished.connect(self._export_finished)
+            self._exporter.failed.connect(self._export_failed)
+            self._exporter.cancelled.connect(self.show_message)
+        return self._exporter
+
+    @property
+    def export_status(self) -> QWidget:
+        """The exporter's status-bar widget (busy bar, stage, Cancel)."""
+        self.exporter
+        return self._export_status
 
     def _action(self, name: str, text: str, slot: Callable[[], Any], shortcut: Any = None,
                 tip: str = "") -> QAction:
@@ -330,6 +361,8 @@ class MainWindow(QMainWindow):
 
     def export_target(self):
         """The element to export: the selected one, else the only one (None if there are several)."""
+        from .export_worker import exportable
+
         scene = self.controller.scene
         for eid, kind, _ in self.controller.selection:
             if kind == ELEMENT and eid in scene.ids and exportable(scene.element(eid)):
@@ -348,6 +381,10 @@ class MainWindow(QMainWindow):
     def export_parts(self, fmt: str) -> bool:
         """The export dialog (element, parts, layout, tolerance, entities, minimum web), the file
         name, then the export off the GUI thread with progress and Cancel (True: started)."""
+        from mechsketch.core.analyses.parts_build import PartOptions, min_web_of, part_names
+
+        from .export_worker import exportable
+
         if self.exporter.busy:
             self.show_message("an export is running: wait for it or cancel it")
             return False
@@ -429,9 +466,54 @@ class MainWindow(QMainWindow):
             event.ignore()
             return
         self.save_layout()
-        self.exporter.cancel()
-        self.exporter.wait()
+        if self._exporter is not None:
+            self._exporter.cancel()
+            self._exporter.wait()
         if self.parts.stop is not None:
             self.parts.stop()
         self.autosave.clean_exit()
         event.accept()
+
+
+class _FirstPaint(QWidget):
+    """An empty widget that calls ``callback`` (through the event loop) once it has been painted."""
+
+    def __init__(self, callback: Callable[[], Any]) -> None:
+        super().__init__()
+        self._callback: Callable[[], Any] | None = callback
+
+    def paintEvent(self, event) -> None:  # noqa: N802 - Qt override
+        super().paintEvent(event)
+        if self._callback is not None:
+            callback, self._callback = self._callback, None
+            QTimer.singleShot(0, self, callback)   # dropped if this widget is gone by then
+
+
+class LazyDock(QDockWidget):
+    """A dock whose content ``factory()`` makes after the window's first frame: the dock first
+    holds an empty widget; when that has been painted (the first frame is on screen), the content
+    is made on the next turn of the event loop. :meth:`widget` makes it at once if it is not there
+    yet, so code reading the dock always gets the real content."""
+
+    def __init__(self, title: str, parent: QWidget, factory: Callable[[], QWidget]) -> None:
+        super().__init__(title, parent)
+        self._factory: Callable[[], QWidget] | None = factory
+        super().setWidget(_FirstPaint(self.ensure_content))
+
+    @property
+    def pending(self) -> bool:
+        """True until the content has been made."""
+        return self._factory is not None
+
+    def ensure_content(self) -> QWidget:
+        """Make the content now if it is not made yet; returns it."""
+        if self._factory is not None:
+            factory, self._factory = self._factory, None
+            placeholder = super().widget()
+            self.setWidget(factory())
+            if placeholder is not None:
+                placeholder.deleteLater()
+        return super().widget()
+
+    def widget(self) -> QWidget:  # noqa: D102 - QDockWidget.widget, made on demand
+        return self.ensure_content()

@@ -405,9 +405,13 @@ def solve_element(element, samples: int | None = None, measures: bool = True) ->
     None for an element type this version does not solve."""
     if isinstance(element, Linkage):
         return solve_linkage(element, samples)
-    kind = getattr(element, "type", None)   # the record's own tag: no import of the other models
+    kind = getattr(element, "type", None)   # the other models are imported for their own elements only
     if kind == "geneva":
-        return solve_geneva(element, samples)
+        from ..model.geneva import Geneva
+
+        return solve_geneva(element, samples) if isinstance(element, Geneva) else None
     if kind == "rolling_lever":
-        return solve_rolling(element, measures)
+        from ..model.rolling_lever import RollingLever
+
+        return solve_rolling(element, measures) if isinstance(element, RollingLever) else None
     return None

@@ -21,11 +21,11 @@ import numpy as np
 from PySide6.QtCore import QPointF, QRectF, Qt
 from PySide6.QtGui import QBrush, QColor, QFont, QPainter, QPainterPath, QPen, QPolygonF
 from PySide6.QtWidgets import QGraphicsItem, QStyleOptionGraphicsItem, QWidget
-from pyqtgraph import arrayToQPath
 
 from mechsketch.core.model.drivers import input_text
 from mechsketch.core.model.linkage import JointKind
 
+from ..qpath import finite_path
 from .events import XY, Hit
 from .pose import ElementPose, SolutionArrays, link_outline, slider_roles
 
@@ -354,7 +354,7 @@ def _path(xy: np.ndarray, close: bool = False, step: float = 0.0) -> QPainterPat
     if close and np.isfinite(xy).all() and len(xy) > 2:
         xy = np.vstack([xy, xy[:1]])
     xy = decimate(xy, step)
-    return arrayToQPath(np.ascontiguousarray(xy[:, 0]), np.ascontiguousarray(xy[:, 1]), connect="finite")
+    return finite_path(xy[:, 0], xy[:, 1])   # pyqtgraph's arrayToQPath(connect="finite") without pyqtgraph
 
 
 class TraceItem(_Item):

@@ -30,6 +30,9 @@ from mechsketch.core.model.linkage import Linkage
 from ..controller import SceneController
 from .lazy import LazyRefresh
 
+pg.setConfigOptions(antialias=True, background="w", foreground="k")   # the app's look (set on import: the
+# main window imports this module after its first frame, issue 14)
+
 PLOTS = (("position", "position"), ("velocity", "velocity"), ("acceleration", "acceleration"),
          ("transmission", "transmission angle μ (°)"))
 COLORS = ("#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b")
