@@ -1,17 +1,21 @@
 """Start-up time of the desktop app, from a cold process to a shown main window (a report, not a test).
 
 Each run starts a fresh Python process that imports the app, builds it on the built-in example
-(solve and diagnostics included), shows the window and processes the first events; the parent
-measures the whole wall time, the child reports its import and build+show parts. The target is
-≤ 0.5 s to a shown window (issue 14).
+(solve and diagnostics included), shows the window and runs the event loop until the window's
+first frame has been painted (the first paint event of any of its widgets), then on until the
+docks made after the first frame (the plots, issue 14) exist. The parent measures the wall time
+from starting the process to that first paint (the user sees the window) and to the docks being
+ready; the child reports its import, build+show-to-first-paint and first-paint-to-ready parts.
+The target is ≤ 0.5 s to a shown window (issue 14).
 
 Usage::
 
     python benchmarks/bench_gui_startup.py [--runs 5] [--platform offscreen|xcb]
 
 With ``--platform xcb`` it uses the display in ``$DISPLAY`` (e.g. an Xvfb server). The CPU time of
-the child (user + system) is printed too: on a busy machine the wall time grows, the CPU time does
-not. Exit status 1 if the worst run is over the target.
+the child (user + system, the whole process to the docks being ready) is printed too: on a busy
+machine the wall time grows, the CPU time does not. To measure another checkout, put its package
+first on ``PYTHONPATH``.
 """
 from __future__ import annotations
 
@@ -29,13 +33,30 @@ CHILD = r"""
 import json, os, sys, time
 t0 = time.perf_counter()
 from mechsketch.gui.app import build
+from PySide6.QtCore import QEvent, QEventLoop, QObject
 t1 = time.perf_counter()
+
+class FirstPaint(QObject):
+    seen = None
+    def eventFilter(self, obj, event):
+        if self.seen is None and event.type() == QEvent.Type.Paint:
+            self.seen = (time.perf_counter(), time.time())
+        return False
+
 parts = build(state_dir=sys.argv[1], settings_path=os.path.join(sys.argv[1], "settings.ini"))
+probe = FirstPaint()
+parts.app.installEventFilter(probe)
 parts.window.show()
-parts.app.processEvents()
-t2 = time.perf_counter()
-exposed = parts.window.isVisible()
-print(json.dumps({"import": t1 - t0, "build_show": t2 - t1, "visible": exposed}), flush=True)
+limit = time.perf_counter() + 60
+while probe.seen is None and time.perf_counter() < limit:
+    parts.app.processEvents(QEventLoop.ProcessEventsFlag.WaitForMoreEvents)
+t2, painted_at = probe.seen
+pending = lambda: [n for n, d in parts.window.docks.items() if getattr(d, "pending", False)]
+while pending() and time.perf_counter() < limit:
+    parts.app.processEvents(QEventLoop.ProcessEventsFlag.WaitForMoreEvents)
+t3 = time.perf_counter()
+print(json.dumps({"import": t1 - t0, "build_show": t2 - t1, "to_ready": t3 - t2, "painted_at": painted_at,
+                  "ready_at": time.time(), "visible": parts.window.isVisible(), "pending": pending()}), flush=True)
 parts.autosave.stop()
 os._exit(0)
 """
@@ -47,15 +68,15 @@ def run_once(platform: str) -> dict:
     env = dict(os.environ, QT_QPA_PLATFORM=platform)
     with tempfile.TemporaryDirectory() as state:
         before = resource.getrusage(resource.RUSAGE_CHILDREN)
-        start = time.perf_counter()
+        start = time.time()
         out = subprocess.run([sys.executable, "-c", CHILD, state], env=env, capture_output=True, text=True,
                              timeout=120)
-        wall = time.perf_counter() - start
         after = resource.getrusage(resource.RUSAGE_CHILDREN)
     if out.returncode != 0:
         raise SystemExit(f"the app did not start:\n{out.stderr}")
     data = json.loads(out.stdout.strip().splitlines()[-1])
-    data["wall"] = wall
+    data["wall"] = data["painted_at"] - start
+    data["wall_ready"] = data["ready_at"] - start
     data["cpu"] = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
     return data
 
@@ -68,8 +89,9 @@ def main(argv: list[str] | None = None) -> int:
     runs = [run_once(args.platform) for _ in range(args.runs)]
     print(f"mechsketch start-up, {args.runs} cold runs, platform {args.platform}, Python {sys.version.split()[0]}")
     print(f"{'':24}{'median':>10}{'min':>10}{'max':>10}")
-    for key, label in (("import", "import the app (s)"), ("build_show", "build + show (s)"),
-                       ("wall", "process start→shown (s)"), ("cpu", "CPU time of it (s)")):
+    for key, label in (("import", "import the app (s)"), ("build_show", "build + first paint (s)"),
+                       ("wall", "process start→shown (s)"), ("to_ready", "then docks ready (s)"),
+                       ("wall_ready", "process start→ready (s)"), ("cpu", "CPU time to ready (s)")):
         values = [r[key] for r in runs]
         print(f"{label:24}{statistics.median(values):10.3f}{min(values):10.3f}{max(values):10.3f}")
     worst = max(r["wall"] for r in runs)
@@ -77,8 +99,9 @@ def main(argv: list[str] | None = None) -> int:
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     print(f"machine: {os.cpu_count()} CPUs, load average {load:.2f} (wall times grow with load; "
           f"the CPU time is what the start-up itself costs)")
-    print(f"target ≤ {TARGET_S:.1f} s to a shown window: worst run {worst:.2f} s, {verdict} the target "
-          f"(all windows visible: {all(r['visible'] for r in runs)})")
+    print(f"target ≤ {TARGET_S:.1f} s to a shown window (first frame painted): worst run {worst:.2f} s, "
+          f"{verdict} the target (all windows visible: {all(r['visible'] for r in runs)}; docks left "
+          f"unmade: {sorted({n for r in runs for n in r['pending']}) or 'none'})")
     return 0
 
 
