@@ -22,11 +22,10 @@ from __future__ import annotations
 from collections import Counter, OrderedDict
 from dataclasses import dataclass, field
 from enum import Enum
-from typing import Any, Callable, Hashable, Iterable
+from typing import TYPE_CHECKING, Any, Callable, Hashable, Iterable
 
 from pathlib import Path
 
-from ..analyses.forces import ForceResult, linkage_forces
 from ..errors import EditError, MechsketchError, RequestError, UnknownIdError
 from ..io.scene_file import element_problems, load_scene
 from ..model.edits import Edit
@@ -37,6 +36,9 @@ from ..solver.plan import Plan, Solution, compile_plan
 from .budget import check_request
 from .facade import ElementView
 from .results import ElementResult, LinkageResult, RollingResult, solve_element, solve_linkage
+
+if TYPE_CHECKING:  # pragma: no cover  (the forces are imported by forces(): issue 14)
+    from ..analyses.forces import ForceResult
 
 #: results kept by value beyond the current ones (undo/redo, pre-checks of edits, requests)
 CACHE_SIZE = 32
@@ -442,6 +444,8 @@ class Workspace:
             self._forces.move_to_end(key)
             return self._forces[key]
         sol = self.solve(element_id, samples=n, order=2)
+        from ..analyses.forces import linkage_forces
+
         res = linkage_forces(sol.plan, sol)
         self.stats["forces"] += 1
         self._store(self._forces, key, res)
