@@ -18,7 +18,6 @@ import numpy as np
 from PySide6.QtWidgets import (QFormLayout, QGroupBox, QLabel, QPushButton, QTableWidget, QTableWidgetItem,
                                QVBoxLayout)
 
-from mechsketch.core.analyses.rolling_synthesis import error_table
 from mechsketch.core.errors import MechsketchError
 
 from mechsketch.core.model.rolling_lever import METHODS, RollingLever
@@ -176,6 +175,8 @@ def method_comparison_box(panel, element_id: str) -> QGroupBox:
     lay.addWidget(note)
 
     def compare() -> None:
+        from mechsketch.core.analyses.rolling_synthesis import error_table   # 30 ms to import: not at start-up
+
         el = ctl.scene.element(element_id)
         try:
             rows = error_table(el, ns=(el.points,), methods=METHODS_SHOWN, repeat=1)
