@@ -96,6 +96,11 @@ def _sqrt_ok(x: Arr, gap: Arr, tol: float) -> tuple[Arr, Arr]:
     """sqrt(x) where the assembly margin ``gap`` ≥ −tol (x clamped at 0: an exact toggle that
     rounding pushed below zero still assembles); NaN and ok False elsewhere."""
     ok = gap >= -tol
+    root = np.sqrt(np.maximum(x, 0.0))
+    if isinstance(root, np.ndarray) and root.ndim:
+        if not ok.all():
+            root[~ok] = np.nan
+        return root, ok
     return np.sqrt(np.where(ok, np.maximum(x, 0.0), np.nan)), ok
 
 
@@ -189,8 +194,11 @@ def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: co
     prod = (D + (li + lj)) * f1 * f2 * f3
     gap = np.minimum(np.minimum(f1, f2), f3)
     root, ok = _sqrt_ok(prod, gap, tol)
-    singular = ok & (D <= near)
-    ok = ok & ~singular
+    meet = D <= near
+    singular = None                  # nowhere, unless the outer joints meet at some sample
+    if not isinstance(meet, np.ndarray) or meet.ndim == 0 or meet.any():
+        singular = ok & meet
+        ok = ok & ~singular
     # L − M = q·(li/|q|)·(d/D) with q = x + i·h, x = (li² − lj² + D²)/(2D), h = mode·√prod/(2D):
     # L in polar form, |L − M| = li exactly. (x, h) lose accuracy like eps·li²/D where M and H
     # nearly coincide (li ≈ lj), and the Cartesian form then left the loop open by up to li.

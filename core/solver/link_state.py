@@ -162,20 +162,14 @@ class LinkState:
         return c * vr - s * vi, s * vr + c * vi
 
     def _entry(self, p0: complex) -> list:
-        """[arm, point] of the point drawn at ``p0`` (computed on first use)."""
+        """[arm] or [arm, point] of the point drawn at ``p0`` (the arm computed on first use)."""
         pts = self._points
         if pts is None:
             pts = self._points = {}
         e = pts.get(p0)
         if e is None:
             d = p0 - self.a0
-            x, y = self._A_xy or self.xy
-            if d == 0:
-                e = [(0.0, 0.0), (x, y)]
-            else:
-                ax, ay = self.rotate(d)
-                e = [(ax, ay), (x + ax, y + ay)]
-            pts[p0] = e
+            e = pts[p0] = [(0.0, 0.0) if d == 0 else self.rotate(d)]
         return e
 
     def arm_xy(self, p0: complex) -> Pair:
@@ -183,8 +177,13 @@ class LinkState:
         return self._entry(p0)[0]
 
     def point_xy(self, p0: complex) -> Pair:
-        """(x, y) of the point drawn at ``p0``, mm."""
-        return self._entry(p0)[1]
+        """(x, y) of the point drawn at ``p0``, mm (computed once)."""
+        e = self._entry(p0)
+        if len(e) == 1:
+            ax, ay = e[0]
+            x, y = self._A_xy or self.xy
+            e.append((x, y) if p0 == self.a0 else (x + ax, y + ay))
+        return e[1]
 
     def set_point(self, p0: complex, arm: Pair, at: Pair) -> None:
         """Record the point drawn at ``p0`` as computed by a kernel (its arm and position)."""
@@ -218,6 +217,66 @@ class LinkState:
             return gx + w2 * ax, gy + w2 * ay
         w2 = w * w
         return gx - w2 * ax - al * ay, gy - w2 * ay + al * ax
+
+    # -- into (N, 2) arrays (the extraction of joint results: no temporaries copied) ------------
+    def write_point(self, p0: complex, out: Arr) -> Arr:
+        """The point drawn at ``p0`` into ``out`` (N, 2), mm."""
+        pts = self._points
+        e = None if pts is None else pts.get(p0)
+        if e is not None and len(e) > 1:
+            out[:, 0], out[:, 1] = e[1]
+            return out
+        ax, ay = self.arm_xy(p0)
+        x, y = self._A_xy or self.xy
+        np.add(x, ax, out=out[:, 0])
+        np.add(y, ay, out=out[:, 1])
+        return out
+
+    def write_velocity(self, p0: complex, out: Arr) -> Arr:
+        """Velocity of the point drawn at ``p0`` into ``out`` (N, 2), mm/s (as :meth:`vel_xy`)."""
+        vx, vy = self._vA_xy or self.vxy
+        w = self.omega
+        ax, ay = self.arm_xy(p0)
+        o0, o1 = out[:, 0], out[:, 1]
+        if isinstance(w, float):
+            if w == 0.0:
+                out[:, 0], out[:, 1] = vx, vy
+                return out
+            if isinstance(vx, float) and isinstance(vy, float) and vx == 0.0 and vy == 0.0:
+                np.multiply(-w, ay, out=o0)
+                np.multiply(w, ax, out=o1)
+                return out
+        np.multiply(w, ay, out=o0)
+        np.subtract(vx, o0, out=o0)
+        np.multiply(w, ax, out=o1)
+        np.add(vy, o1, out=o1)
+        return out
+
+    def write_acceleration(self, p0: complex, out: Arr) -> Arr:
+        """Acceleration of the point drawn at ``p0`` into ``out`` (N, 2), mm/s² (as :meth:`acc_xy`)."""
+        gx, gy = self._aA_xy or self.axy
+        w, al = self.omega, self.alpha
+        ax, ay = self.arm_xy(p0)
+        o0, o1 = out[:, 0], out[:, 1]
+        if isinstance(al, float) and al == 0.0:
+            if isinstance(w, float) and w == 0.0:
+                out[:, 0], out[:, 1] = gx, gy
+                return out
+            w2 = -(w * w)
+            np.multiply(w2, ax, out=o0)
+            np.multiply(w2, ay, out=o1)
+            if not (isinstance(gx, float) and isinstance(gy, float) and gx == 0.0 and gy == 0.0):
+                np.add(gx, o0, out=o0)
+                np.add(gy, o1, out=o1)
+            return out
+        w2 = w * w
+        np.multiply(w2, ax, out=o0)
+        np.subtract(gx, o0, out=o0)
+        np.subtract(o0, al * ay, out=o0)
+        np.multiply(w2, ay, out=o1)
+        np.subtract(gy, o1, out=o1)
+        np.add(o1, al * ax, out=o1)
+        return out
 
     def still(self) -> bool:
         """No motion at all (the frame): scalar zero rates."""

@@ -195,9 +195,16 @@ class Plan:
         alpha = float(alpha) if np.ndim(alpha) == 0 else np.asarray(alpha, dtype=float)
         states: dict[str, K.LinkState] = {}
         outs = self.run_steps(inputs, order, idx, branches, w, alpha, states)
-        valid = np.ones(inputs.shape, dtype=bool)
+        valid = None
         for out in outs.values():
-            valid &= out.ok
+            if valid is None:
+                valid = np.array(out.ok, dtype=bool)
+                if valid.shape != inputs.shape:
+                    valid = np.broadcast_to(valid, inputs.shape).copy()
+            else:
+                np.logical_and(valid, out.ok, out=valid)
+        if valid is None:
+            valid = np.ones(inputs.shape, dtype=bool)
         elapsed = time.perf_counter() - start
         return Solution(self, inputs, order, states, outs, valid, w, t, elapsed, alpha)
 
@@ -394,8 +401,7 @@ class Solution:
         #: the input's rate (rad/s or mm/s) and acceleration (rad/s² or mm/s²): scalars or (N,)
         self.omega_driver = omega
         self.alpha_driver = alpha
-        self.t = (t if t is not None else (inputs - inputs[0]) / omega if np.ndim(omega) == 0 and omega
-                  else np.zeros_like(inputs))
+        self._t = t
         self.elapsed = elapsed
         self._states = states
         self._outs = outs
@@ -405,6 +411,19 @@ class Solution:
 
     def __len__(self) -> int:
         return self.input.shape[0]
+
+    @property
+    def t(self) -> np.ndarray:
+        """(N,) time of each sample, s (made on first use when the solve was not given one)."""
+        if self._t is None:
+            inputs, omega = self.input, self.omega_driver
+            self._t = ((inputs - inputs[0]) / omega if np.ndim(omega) == 0 and omega
+                       else np.zeros_like(inputs))
+        return self._t
+
+    @t.setter
+    def t(self, value: np.ndarray) -> None:
+        self._t = value
 
     @property
     def rates_valid(self) -> np.ndarray:
@@ -487,7 +506,7 @@ class Solution:
     def position(self, joint: str) -> np.ndarray:
         """(N, 2) position of ``joint``, mm."""
         st, p0 = self._joint(joint)
-        out = _xy2(st.point_xy(p0), self._n)
+        out = st.write_point(p0, np.empty((self._n, 2)))
         return out if self._all_valid else self._mask(out)
 
     def velocity(self, joint: str) -> np.ndarray:
@@ -496,7 +515,7 @@ class Solution:
             self._need(1, "velocity")
         st, p0 = self._joint(joint)
         with np.errstate(invalid="ignore", over="ignore"):
-            out = _xy2(st.vel_xy(st.arm_xy(p0)), self._n)
+            out = st.write_velocity(p0, np.empty((self._n, 2)))
         return out if self._all_valid else self._mask(out)
 
     def acceleration(self, joint: str) -> np.ndarray:
@@ -505,7 +524,7 @@ class Solution:
             self._need(2, "acceleration")
         st, p0 = self._joint(joint)
         with np.errstate(invalid="ignore", over="ignore"):
-            out = _xy2(st.acc_xy(st.arm_xy(p0)), self._n)
+            out = st.write_acceleration(p0, np.empty((self._n, 2)))
         return out if self._all_valid else self._mask(out)
 
     def point(self, link: str, xy) -> np.ndarray:
