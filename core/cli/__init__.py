@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import sys
 from typing import TYPE_CHECKING, Any, Callable, Sequence
 
@@ -125,6 +126,18 @@ def _structure_problems(ws: Workspace) -> list[Problem]:
 MAX_SAMPLES = 1_000_000
 
 
+def single_blas_thread() -> bool:
+    """Ask OpenBLAS for one thread (``OPENBLAS_NUM_THREADS=1``) unless the user set it, before
+    numpy is loaded (True if set here). mechsketch's arrays are worked on elementwise and its linear
+    solves are small, so BLAS threads never help it; but OpenBLAS starts one per core when numpy
+    is imported and they spin meanwhile: on a 2-core machine that cost ``analyze --summary`` 0.06 s
+    of its 0.21 s (benchmarks/bench_cli.py, issue 14). Called first by the entry points."""
+    if "numpy" in sys.modules or "OPENBLAS_NUM_THREADS" in os.environ:
+        return False
+    os.environ["OPENBLAS_NUM_THREADS"] = "1"
+    return True
+
+
 def run(args: argparse.Namespace) -> int:
     """Run a parsed headless command; returns the exit status."""
     from ..io.scene_file import load_scene, validate_file
@@ -168,6 +181,7 @@ def run(args: argparse.Namespace) -> int:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the headless commands (``mechsketch.gui.launcher`` adds the app)."""
+    single_blas_thread()   # before numpy is imported
     tune_allocator()   # before any array is allocated (core/runtime.py); once per process
     parser = build_parser()
     args = parser.parse_args(argv)

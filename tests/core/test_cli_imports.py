@@ -129,3 +129,15 @@ def test_geneva_drawing_error_still_reported_by_the_result():
     assert res.geometry is None and res.n_frames == 0 and not res.ok
     assert "crank_bore_radius = 11.5 mm" in str(res.exception)
     assert "  drawing: " in res.summary()
+
+
+def test_entry_points_ask_for_one_blas_thread_unless_the_user_chose():
+    code = ("import os, sys\nfrom mechsketch.gui.launcher import main\n"
+            "rc = main(['validate', sys.argv[1]])\nimport numpy\nprint(os.environ.get('OPENBLAS_NUM_THREADS'), rc)")
+    env = {k: v for k, v in __import__("os").environ.items() if k != "OPENBLAS_NUM_THREADS"}
+    out = subprocess.run([sys.executable, "-c", code, str(EX / "fourbar_crank_rocker.json")], capture_output=True,
+                         text=True, timeout=120, env=env)
+    assert out.stdout.split()[-2:] == ["1", "0"], out.stderr
+    out = subprocess.run([sys.executable, "-c", code, str(EX / "fourbar_crank_rocker.json")], capture_output=True,
+                         text=True, timeout=120, env=dict(env, OPENBLAS_NUM_THREADS="2"))
+    assert out.stdout.split()[-2:] == ["2", "0"], out.stderr
