@@ -10,13 +10,18 @@ from typing import Sequence
 HEADLESS = {"analyze", "validate", "export", "synthesize", "centrodes"}
 
 
-def main(argv: Sequence[str] | None = None) -> int:
-    """``mechsketch`` with no arguments opens the app on a built-in example; ``open SCENE`` a file."""
+def prepare_process() -> None:
+    """What the process sets before numpy is imported, for the app and the headless commands alike."""
     from mechsketch.core.cli import single_blas_thread
     from mechsketch.core.runtime import tune_allocator
 
     single_blas_thread()   # OpenBLAS threads only slow the start (core/cli: single_blas_thread)
-    tune_allocator()   # glibc malloc keeps the sweeps' arrays (ctypes only; before numpy is imported)
+    tune_allocator()   # glibc malloc keeps the sweeps' arrays (ctypes only)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """``mechsketch`` with no arguments opens the app on a built-in example; ``open SCENE`` a file."""
+    prepare_process()
     args = list(sys.argv[1:] if argv is None else argv)
     if args and args[0] in HEADLESS | {"-h", "--help"}:
         from mechsketch.core.cli import main as cli_main
