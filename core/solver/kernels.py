@@ -145,7 +145,8 @@ def _slider(g: LinkState, s0: complex, u0: complex, s: Arr, sd: Arr | None, sdd:
     if guide is None:
         guide = (g.arm_xy(s0), g.point_xy(s0), g.rotate(u0))
     arm, (zx, zy), (ux, uy) = guide
-    st = LinkState.real(s0, (zx + s * ux, zy + s * uy), g.cs)
+    st = LinkState.real(s0, (zx + s * ux, zy + s * uy), None)
+    st.share_rotation(g)
     shape = np.shape(s)
     if still is None:
         still = g.still()

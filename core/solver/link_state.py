@@ -147,14 +147,28 @@ class LinkState:
         st._turn = (v[0], v[1], (k.real, k.imag))
         return st
 
+    def share_rotation(self, other: "LinkState") -> None:
+        """Take ``other``'s rotation (a link translating on it), made only if it is read."""
+        if other._turn is not None:
+            self._turn = other._turn
+            self._rot = self._rot_xy = None
+        else:
+            self._rot, self._rot_xy = other._rot, other._rot_xy
+
     def __repr__(self) -> str:
         return f"LinkState(a0={self.a0!r}, A={self.A!r}, rot={self.rot!r}, omega={self.omega!r})"
 
     # -- real arithmetic -----------------------------------------------------------------------
     def rotate(self, v0: complex) -> Pair:
         """The drawn vector ``v0`` turned with the link: (x, y) of rot·v0."""
-        c, s = self._rot_xy or self.cs
-        vr, vi = v0.real, v0.imag
+        t = self._turn
+        if t is not None:   # rot not made yet: v·(k·v0) straight from the link's current vector v
+            c, s, k = t
+            w = complex(*k) * v0
+            vr, vi = w.real, w.imag
+        else:
+            c, s = self._rot_xy or self.cs
+            vr, vi = v0.real, v0.imag
         if vi == 0.0:
             return c * vr, s * vr
         if vr == 0.0:
