@@ -125,7 +125,8 @@ def branches_equal(a: dict, b: dict) -> bool:
 
 
 def run(case: str, samples: int, moves: int, size: tuple[int, int], hide_diagnostics: bool,
-        timers: Timers) -> dict:
+        timers: Timers | None = None) -> dict:
+    timers = timers or Timers()
     scene, eid, joint, traced, radius = case_scene(case, samples)
     state = tempfile.mkdtemp(prefix="mechsketch-bench-")
     parts = build(state_dir=state, settings_path=os.path.join(state, "settings.ini"), offer_recovery=False)

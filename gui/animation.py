@@ -284,7 +284,8 @@ class AnimationPlayer(QObject):
             m = len(sol)
             own = np.asarray(sol.valid, dtype=bool)
             valid &= own if m == n else own[[map_frame(int(k), n, m) for k in range(n)]]
-            toggles = [d.input for d in (res.diagnostics.dead_points if res.diagnostics else []) if d.kind == "toggle"]
+            diag = ctl.diagnostics(lk.id)   # none during a drag preview: no barriers until the release
+            toggles = [d.input for d in (diag.dead_points if diag else []) if d.kind == "toggle"]
             for k in dead_samples(sol, own, toggles):
                 barriers.add(k if m == n else int(round(k * n / m)) % n)
         self._masks = (valid, barriers)

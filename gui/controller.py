@@ -22,6 +22,7 @@ from mechsketch.core.errors import MechsketchError
 from mechsketch.core.model.edits import Edit
 from mechsketch.core.model.linkage import Linkage
 from mechsketch.core.model.scene import Scene
+from mechsketch.core.solver.diagnostics import Diagnostics
 from mechsketch.core.workspace import Change, ElementResult, GenevaResult, LinkageResult, RollingResult, Workspace
 
 from .canvas.pose import map_frame
@@ -105,6 +106,16 @@ class SceneController(QObject):
     def results(self) -> dict[str, LinkageResult]:
         """Results of every linkage, in scene order."""
         return {lk.id: self.result(lk.id) for lk in self.linkages()}
+
+    def diagnostics(self, element_id: str) -> Diagnostics | None:
+        """The diagnostics of linkage ``element_id`` for a widget to show (None for another
+        element or one that does not solve). Computed on first request, except during a drag
+        preview, which never waits for them: then only those already computed for the shown
+        result (None until the release, whose final change computes them)."""
+        res = self.result(element_id)
+        if res is None:
+            return None
+        return res.diagnostics_if_computed if self.workspace.previewing else res.diagnostics
 
     def element_result(self, element_id: str) -> GenevaResult | RollingResult | None:
         """The result of a Geneva drive or rolling lever (None for a linkage or an unknown id)."""

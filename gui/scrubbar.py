@@ -60,12 +60,13 @@ class ScrubTrack(QWidget):
         dead: list[tuple[int, str]] = []
         for lk in ctl.linkages():
             res = ctl.result(lk.id)
-            if res is None or res.solution is None or res.diagnostics is None:
+            diag = ctl.diagnostics(lk.id)   # none during a drag preview (back on release)
+            if res is None or res.solution is None or diag is None:
                 continue
             sol = res.solution
             m = len(sol)
-            samples = dead_samples(sol, np.asarray(sol.valid, dtype=bool), [d.input for d in res.diagnostics.dead_points])
-            for d, k in zip(res.diagnostics.dead_points, samples):
+            samples = dead_samples(sol, np.asarray(sol.valid, dtype=bool), [d.input for d in diag.dead_points])
+            for d, k in zip(diag.dead_points, samples):
                 g = k if m == n else int(round(k * n / m)) % n
                 what = "limit" if d.kind == "limit" else "dead point"
                 dead.append((g, f"{lk.id}: {what} at {input_text(d.input, d.unit, 2)} ({d.group})"))

@@ -219,6 +219,45 @@ def diagnose(sol: Solution) -> Diagnostics:
                        sol.elapsed, sol.residual(), full, tuple(g.name for g in sol.groups if g.fixed))
 
 
+def sampled_dead_points(sol: Solution) -> list[DeadPoint]:
+    """The dead points of a sweep at the resolution of its samples, with no re-solve (what a live
+    drag marks; :func:`diagnose` refines them, and finds the same ones wherever the samples see
+    them): an assembly limit at the last assemblable sample before a gap and the first one after
+    it (the group that fails next door), each singular sample, and each sample where a group's
+    conditioning has a local minimum below ``TOGGLE_COND`` (a change point when a branch point
+    lies within a sample of it). Array work over (N,) per group; sorted by input (rad or mm)."""
+    plan = sol.plan
+    unit = plan.input_unit
+    n = len(sol)
+    x = np.asarray(sol.input, dtype=float)
+    valid = _assembled(sol)
+    outs = [(g, sol.group_output(g.name)) for g in sol.groups]
+    dead: list[DeadPoint] = []
+    if valid.any() and not valid.all():
+        for k, nb in [(k, (k + 1) % n) for k in np.flatnonzero(valid & ~np.roll(valid, -1))] + \
+                     [(k, (k - 1) % n) for k in np.flatnonzero(valid & ~np.roll(valid, 1))]:
+            g = next((g for g, o in outs if not o.ok[nb] and not (o.singular is not None and o.singular[nb])), None)
+            if g is not None:
+                dead.append(DeadPoint(float(x[k]), g.name, DeadPointKind.LIMIT, 0.0, unit))
+    branches = plan.branch_points() if unit == "rad" else {}   # found by the sweep already
+    step = abs(x[1] - x[0]) if n > 1 else 2 * math.pi
+    for g, o in outs:
+        if o.singular is not None:
+            dead += [DeadPoint(float(x[k]), g.name, DeadPointKind.SINGULAR, 0.0, unit) for k in np.flatnonzero(o.singular)]
+        if g.fixed:
+            continue
+        c = np.where(sol.valid, o.cond, np.inf)
+        prev, nxt = np.roll(c, 1), np.roll(c, -1)
+        bp = branches.get(g.name, np.empty(0))
+        for k in np.flatnonzero((c < TOGGLE_COND) & (c <= prev) & (c <= nxt) & np.isfinite(prev) & np.isfinite(nxt)):
+            off = (plan.direction * (x[k] - plan.theta0)) % (2 * math.pi)
+            near = bp.size and np.min(np.abs(np.remainder(bp - off + math.pi, 2 * math.pi) - math.pi)) <= step
+            dead.append(DeadPoint(float(x[k]), g.name, DeadPointKind.CHANGE_POINT if near else DeadPointKind.TOGGLE,
+                                  float(c[k]), unit))
+    dead.sort(key=lambda d: d.input)
+    return dead
+
+
 def _diagnose_stroke(sol: Solution) -> Diagnostics:
     """Diagnostics of an actuator-driven linkage over its stroke (inputs in mm): the geometry is
     sampled uniformly over the stroke with the sweep's sample count; the solve time, residual and

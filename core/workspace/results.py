@@ -111,6 +111,12 @@ class LinkageResult(_Result):
             self._diagnostics = diagnose(self.solution)
         return self._diagnostics
 
+    @property
+    def diagnostics_if_computed(self) -> Diagnostics | None:
+        """:attr:`diagnostics` if something asked for them already, else None (never computes:
+        what a live drag shows without waiting for them)."""
+        return self._diagnostics
+
     def frame_text(self, k: int) -> str:
         """Read-out of frame ``k``: the input (crank angle in degrees, or actuator length in mm) and time."""
         sol = self.solution

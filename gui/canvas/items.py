@@ -450,17 +450,17 @@ class DeadPointItem(_Item):
         self.marks: list[DeadMark] = []
         self.setZValue(5)
 
-    def set_data(self, pose: ElementPose, result) -> None:
-        """Marks from ``result.diagnostics`` at the nearest valid samples of ``pose.arrays``."""
+    def set_data(self, pose: ElementPose) -> None:
+        """Marks of the dead points of ``pose.arrays`` (the diagnostics', or during a drag those
+        at the samples' resolution) at their nearest valid samples."""
         self.marks = []
         arrays = pose.arrays
-        diag = getattr(result, "diagnostics", None)
-        if arrays is not None and diag is not None:
+        if arrays is not None:
             groups = {g.name: g for g in arrays.solution.groups}
             lk = pose.linkage
             tip = (next((j for j in lk.link(lk.driver.link).joints if j != lk.driver.pivot), None)
                    if lk.driver.kind == "crank" else None)
-            for d, k in zip(diag.dead_points, arrays.dead):
+            for d, k in zip(arrays.dead_points, arrays.dead):
                 g = groups.get(d.group)
                 if g is None or not arrays.valid[k]:
                     continue

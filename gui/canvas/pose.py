@@ -24,6 +24,7 @@ import numpy as np
 
 from mechsketch.core.model.drivers import input_text
 from mechsketch.core.model.linkage import Joint, JointKind, Linkage
+from mechsketch.core.solver.diagnostics import sampled_dead_points
 from mechsketch.core.solver.plan import Solution
 
 from .events import XY, Hit
@@ -58,12 +59,13 @@ class SolutionArrays:
 
     ``pos[j]`` (N, 2) mm; ``axis[j]`` (N,) deg for P joints; ``guide[j]`` two (N, 2) arrays, the
     ends of the guide segment of P joint ``j``; ``valid`` (N,) bool; ``dead`` sample indices of
-    the dead points (nearest valid sample).
+    the dead points (nearest valid sample); ``dead_points`` the DeadPoints they mark, when given.
     """
 
     def __init__(self, linkage: Linkage, sol: Solution, dead_inputs: Iterable[float] = ()) -> None:
         self.solution = sol
         self.diagnostics = None   # the diagnostics the dead samples came from (None: not yet)
+        self.dead_points: list = []   # the DeadPoints of ``dead`` (refined, or sampled during a drag)
         self.n = len(sol)
         self.valid = np.asarray(sol.valid, dtype=bool)
         self.pos: dict[str, np.ndarray] = {j.id: sol.position(j.id) for j in linkage.joints}
@@ -193,17 +195,21 @@ class PoseCache:
         self._arrays: dict[str, SolutionArrays] = {}
         self._poses: dict[str, tuple] = {}   # id -> (linkage, result, arrays, frame, total, pose)
 
-    def arrays(self, linkage: Linkage, result) -> SolutionArrays | None:
-        """Arrays of ``result.solution`` (``result`` a workspace LinkageResult), cached by identity."""
+    def arrays(self, linkage: Linkage, result, diagnose: bool = True) -> SolutionArrays | None:
+        """Arrays of ``result.solution`` (``result`` a workspace LinkageResult), cached by identity,
+        with the dead-point samples of its diagnostics (computed unless ``diagnose`` is False:
+        then only if they were already; a drag preview does not wait for them)."""
         if result is None or result.solution is None:
             self._arrays.pop(linkage.id, None)
             return None
         cached = self._arrays.get(linkage.id)
-        diag = result.diagnostics
+        diag = result.diagnostics if diagnose else result.diagnostics_if_computed
         if cached is None or cached.solution is not result.solution or cached.diagnostics is not diag:
-            dead = [d.input for d in diag.dead_points] if diag is not None else []
-            cached = SolutionArrays(linkage, result.solution, dead)
+            # without the diagnostics (a drag preview), the dead points at the samples' resolution
+            points = diag.dead_points if diag is not None else sampled_dead_points(result.solution)
+            cached = SolutionArrays(linkage, result.solution, [d.input for d in points])
             cached.diagnostics = diag
+            cached.dead_points = list(points)
             self._arrays[linkage.id] = cached
         return cached
 
@@ -216,7 +222,7 @@ class PoseCache:
         for el in controller.linkages():
             live.add(el.id)
             res = controller.result(el.id)
-            arrays = self.arrays(el, res)
+            arrays = self.arrays(el, res, diagnose=not controller.workspace.previewing)
             hit = self._poses.get(el.id)
             if (hit is not None and hit[0] is el and hit[1] is res and hit[2] is arrays
                     and hit[3:5] == (frame, total)):

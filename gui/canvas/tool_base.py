@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from mechsketch.core.model.edits import AddElement, RemoveElement, ReplaceElement
 from mechsketch.core.model.linkage import JointKind, Linkage
 
@@ -103,7 +105,12 @@ class ToolContext:
             return ""
         if res.error:
             return f"{element_id}: {short_error(res.error)}"
-        diag = res.diagnostics
+        diag = self.controller.diagnostics(element_id)
+        if diag is None and res.solution is not None and self.controller.workspace.previewing:
+            # a drag preview does not wait for the diagnostics: the share of assemblable samples
+            share = float(np.mean(res.solution.valid))
+            if share < 1.0:
+                return f"{element_id}: the crank reaches only {100.0 * share:.1f}% of its turn (ranges on release)"
         if diag is None or diag.full_turn:
             return f"{element_id} moves through a full turn of its crank"
         ranges = ", ".join(f"{math.degrees(a):.1f}° to {math.degrees(b):.1f}°" for a, b in diag.reachable)

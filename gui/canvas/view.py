@@ -309,7 +309,7 @@ class CanvasView(QGraphicsView):
                 it.set_px(px)
             items.linkage.set_pose(pose)
             items.trace.set_data(pose, list(traced))
-            items.dead.set_data(pose, ctl.result(pose.element))
+            items.dead.set_data(pose)   # during a drag: at the samples' resolution, refined on release
         self._highlight()
         if self._fit_pending:
             self._fit_pending = False

@@ -58,7 +58,11 @@ def _element_lines(controller: SceneController, el) -> list[tuple[str, str]]:
 
 
 class DiagnosticsPanel(LazyRefresh, QWidget):
-    """Read-only text of :func:`diagnostics_lines`, refreshed when the solutions change."""
+    """Read-only text of :func:`diagnostics_lines`, refreshed when the solutions change — during a
+    drag only on the release (the text needs the full diagnostics and the motion classification,
+    which a drag preview does not compute)."""
+
+    preview_interval_ms = None
 
     def __init__(self, controller: SceneController, parent: QWidget | None = None) -> None:
         super().__init__(parent)

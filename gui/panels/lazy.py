@@ -1,18 +1,56 @@
-"""Panels that redraw from the controller only when someone can see them."""
+"""Panels that redraw from the controller only when someone can see them, and at most a few
+times a second during a live drag (a drag preview moves many times a frame's worth)."""
 from __future__ import annotations
+
+from typing import Callable
+
+from PySide6.QtCore import QTimer
+from PySide6.QtWidgets import QWidget
+
+#: during a drag preview a panel redraws at most once per this many milliseconds
+PREVIEW_INTERVAL_MS = 120
+
+
+def defer_preview(widget: QWidget, change: object, slot: Callable[[], None],
+                  interval_ms: int | None = PREVIEW_INTERVAL_MS) -> bool:
+    """For a slot of ``changed(Change)``: True when ``change`` is a drag preview whose redraw is
+    deferred — ``slot`` then runs once within ``interval_ms`` however many moves come meanwhile
+    (``interval_ms`` None: not until the release, whose final change redraws). False for any
+    other change (the caller redraws now; a pending deferred redraw is dropped)."""
+    timer: QTimer | None = getattr(widget, "_preview_timer", None)
+    if not getattr(change, "preview", False):
+        if timer is not None:
+            timer.stop()
+        return False
+    if interval_ms is None:
+        return True
+    if timer is None:
+        timer = QTimer(widget)
+        timer.setSingleShot(True)
+        timer.timeout.connect(slot)
+        widget._preview_timer = timer
+    if not timer.isActive():
+        timer.start(interval_ms)
+    return True
 
 
 class LazyRefresh:
     """Mixin for a QWidget panel with a ``refresh()``: a change marks it stale; it redraws at once
-    when visible, else when next shown (a hidden dock costs nothing while the user drags)."""
+    when visible, else when next shown (a hidden dock costs nothing while the user drags). During
+    a drag preview a visible panel redraws at most once per ``preview_interval_ms`` (None: only
+    on the release)."""
 
     _stale = True
+    preview_interval_ms: int | None = PREVIEW_INTERVAL_MS
 
-    def _invalidate(self, *_args) -> None:
+    def _invalidate(self, *args) -> None:
         """Slot of ``changed(Change)`` and ``selectionChanged()``: redraw now if visible."""
         self._stale = True
-        if self.isVisible():
-            self.refresh()
+        if not self.isVisible():
+            return
+        if args and defer_preview(self, args[0], self.refresh_if_stale, self.preview_interval_ms):
+            return
+        self.refresh()
 
     def showEvent(self, event) -> None:  # noqa: N802 - Qt override
         super().showEvent(event)

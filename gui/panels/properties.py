@@ -28,6 +28,7 @@ from ..controller import SceneController
 from ..selection import ELEMENT, element_target
 from mechsketch.core.solver.flip import FLIPPABLE, flip_edit
 from .geneva_panel import geneva_boxes
+from .lazy import defer_preview
 from .linkage_dims import dimensions_box, drive_button, driver_box, link_dimension_rows
 from .loads_panel import joint_friction_row, link_mass_rows, loads_box
 from .rolling_panel import rolling_boxes
@@ -70,7 +71,7 @@ class PropertiesPanel(QWidget):
         self.direction: QComboBox | None = None
         self._refreshers: list[Callable[[], None]] = []
         self._key: object = None
-        controller.changed.connect(self.refresh)
+        controller.changed.connect(self._on_changed)
         controller.selectionChanged.connect(self.refresh)
         self.refresh()
 
@@ -111,6 +112,11 @@ class PropertiesPanel(QWidget):
         return (lk.id, lk.joint_ids, tuple((k.id, k.joints) for k in lk.links), lk.ground,
                 lk.driver.link, lk.driver.kind, lk.driver.law.kind, self.selected(), groups,
                 tuple(j.kind for j in lk.joints), lk.load_ids)
+
+    def _on_changed(self, change) -> None:
+        """A drag preview redraws the values a few times a second (see :func:`defer_preview`)."""
+        if not defer_preview(self, change, self.refresh):
+            self.refresh()
 
     def refresh(self, *_args) -> None:
         """Rebuild the panel if what it shows changed shape; else update the values in place."""
@@ -333,8 +339,9 @@ class PropertiesPanel(QWidget):
             def show(label: QLabel = label, name: str = g.name) -> None:
                 r = self.controller.result(eid)
                 mode = None
-                if r is not None and r.diagnostics is not None:
-                    mode = next((m for n, _, m in r.diagnostics.groups if n == name), None)
+                # the mode the diagnostics report, read from the solution (a drag does not wait for them)
+                if r is not None and r.solution is not None and name in {x.name for x in r.solution.groups}:
+                    mode = r.solution.group_output(name).mode
                 label.setText("mode —" if mode is None else f"mode {mode:+.0f}")
             self._refreshers.append(show)
             form.addRow(f"{g.name}", row)

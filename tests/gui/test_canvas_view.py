@@ -192,9 +192,13 @@ def test_the_drag_benchmark_runs_and_commits_one_command(qtbot):
     spec = importlib.util.spec_from_file_location("bench_gui_drag", path)
     bench = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(bench)
-    rep = bench.run(samples=720, moves=10, radius=4.0, size=(600, 400))
-    assert rep["samples"] == 720 and rep["undo_commands_after_release"] == 1   # the drag: one command
-    assert rep["total_ms"]["median"] > 0
+    for case in ("sixbar", "chain4"):
+        rep = bench.run(case, samples=720, moves=10, size=(900, 600), hide_diagnostics=False)
+        assert rep["samples"] == 720 and rep["undo_commands_after_release"] == 1   # the drag: one command
+        assert rep["total_ms"]["median"] > 0 and rep["moves_without_change"] == 0
+        # its error columns: the dragged result is the fresh full solve's, during the drag and after
+        assert rep["error_drag_mm"] == 0.0 and rep["error_release_mm"] == 0.0
+        assert rep["branches_equal_fresh"] and rep["summary_equal_fresh_after_release"]
 
 
 def test_a_frame_where_the_linkage_cannot_be_assembled_shows_the_drawn_pose_with_a_note(qtbot):
