@@ -121,7 +121,42 @@ def crank(pivot: complex, a0_angle: float, inputs: Arr, omega: float | Arr, alph
 
 def _full(v, shape):
     """``v`` as an array of ``shape`` if it is a scalar (rates of a slider keep the samples' shape)."""
-    return np.full(shape, v) if shape and (not isinstance(v, np.ndarray) or v.ndim == 0) else v
+    if shape and (not isinstance(v, np.ndarray) or v.ndim == 0):
+        out = np.empty(shape)
+        out.fill(v)
+        return out
+    return v
+
+
+def _sc(a, x):
+    """a·x, without the pass for a scalar ``a`` of 1, −1 or 0 (a guide along an axis; 0 gives the
+    scalar 0.0, which :func:`_add` and :func:`_sub` then skip)."""
+    if isinstance(a, float):
+        if a == 1.0:
+            return x
+        if a == 0.0:
+            return 0.0
+        if a == -1.0:
+            return -x
+    return a * x
+
+
+def _add(a, b):
+    """a + b, skipping a scalar zero term."""
+    if isinstance(b, float) and b == 0.0:
+        return a
+    if isinstance(a, float) and a == 0.0:
+        return b
+    return a + b
+
+
+def _sub(a, b):
+    """a − b, skipping a scalar zero term."""
+    if isinstance(b, float) and b == 0.0:
+        return a
+    if isinstance(a, float) and a == 0.0:
+        return -b
+    return a - b
 
 
 def _minus(a: tuple, b: tuple) -> tuple:
@@ -132,11 +167,6 @@ def _minus(a: tuple, b: tuple) -> tuple:
     return a[0] - bx, a[1] - by
 
 
-def _plus(a, b):
-    """a + b, without the pass when ``a`` is a scalar zero."""
-    return b if isinstance(a, float) and a == 0.0 else a + b
-
-
 def _slider(g: LinkState, s0: complex, u0: complex, s: Arr, sd: Arr | None, sdd: Arr | None,
             order: int, guide: tuple | None = None, still: bool | None = None) -> LinkState:
     """State of a link translating along a guide of link ``g`` (axis through drawn s0, dir u0),
@@ -145,28 +175,28 @@ def _slider(g: LinkState, s0: complex, u0: complex, s: Arr, sd: Arr | None, sdd:
     if guide is None:
         guide = (g.arm_xy(s0), g.point_xy(s0), g.rotate(u0))
     arm, (zx, zy), (ux, uy) = guide
-    st = LinkState.real(s0, (zx + s * ux, zy + s * uy), None)
-    st.share_rotation(g)
     shape = np.shape(s)
+    st = LinkState.real(s0, (_full(_add(zx, _sc(ux, s)), shape), _full(_add(zy, _sc(uy, s)), shape)), None)
+    st.share_rotation(g)
     if still is None:
         still = g.still()
     if order >= 1:
         vzx, vzy = g.vel_xy(arm)
         if still:
-            st.vxy = (_full(_plus(vzx, sd * ux), shape), _full(_plus(vzy, sd * uy), shape))
+            st.vxy = (_full(_add(vzx, _sc(ux, sd)), shape), _full(_add(vzy, _sc(uy, sd)), shape))
         else:
             ws = g.omega * s
-            st.vxy = (vzx + sd * ux - ws * uy, vzy + sd * uy + ws * ux)
+            st.vxy = (_sub(_add(vzx, _sc(ux, sd)), _sc(uy, ws)), _add(_add(vzy, _sc(uy, sd)), _sc(ux, ws)))
         st.omega = g.omega
     if order >= 2:
         azx, azy = g.acc_xy(arm)
         if still:
-            st.axy = (_full(_plus(azx, sdd * ux), shape), _full(_plus(azy, sdd * uy), shape))
+            st.axy = (_full(_add(azx, _sc(ux, sdd)), shape), _full(_add(azy, _sc(uy, sdd)), shape))
         else:
             w = g.omega
             p = sdd - w * w * s                  # (sdd + 2iω·sd + (iα − ω²)·s)·u = (p + iq)·u
             q = 2.0 * w * sd + g.alpha * s
-            st.axy = (azx + p * ux - q * uy, azy + p * uy + q * ux)
+            st.axy = (_sub(_add(azx, _sc(ux, p)), _sc(uy, q)), _add(_add(azy, _sc(uy, p)), _sc(ux, q)))
         st.alpha = g.alpha
     return st
 
@@ -254,18 +284,18 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
     ux, uy = g.rotate(u0)
     # slider pin relative to the slide point (l_j, φ_jq of the paper)
     bx, by = g.rotate(l0 - s0) if l0 != s0 else (0.0, 0.0)
-    dx, dy = zx + bx - mx, zy + by - my
-    du = ux * dx + uy * dy
-    dn = ux * dy - uy * dx  # signed eccentricity e_s + l_j sin φ_jq − M·n  (A1–A3 corrected)
+    dx, dy = np.subtract(_add(zx, bx), mx), np.subtract(_add(zy, by), my)   # numpy even for scalars
+    du = _add(_sc(ux, dx), _sc(uy, dy))
+    dn = _sub(_sc(ux, dy), _sc(uy, dx))  # signed eccentricity e_s + l_j sin φ_jq − M·n (A1–A3 corrected)
     gap = li - np.abs(dn)
     root, ok = _sqrt_ok((li - dn) * (li + dn), gap, tol)
     s = (root - du) if (flip is None and mode0 == 1.0) else mode * root - du
-    rix, riy = dx + s * ux, dy + s * uy
+    rix, riy = _add(dx, _sc(ux, s)), _add(dy, _sc(uy, s))
     si = LinkState.turned(m0, (mx, my), (rix, riy), l0 - m0)
     lx, ly = mx + rix, my + riy
     si.set_point(l0, (rix, riy), (lx, ly))
     # columns c1 = u, c2 = −J·ri: det = −(u·ri)
-    udr = ux * rix + uy * riy
+    udr = _add(_sc(ux, rix), _sc(uy, riy))
     cond = np.abs(udr) / li
     still = g.still()
     sd = sdd = None
@@ -278,7 +308,7 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
             vLx, vLy = g.vel_xy((lx - g.xy[0], ly - g.xy[1]))     # the guide's point under L
             wx, wy = vM[0] - vLx, vM[1] - vLy
         sd = (wx * rix + wy * riy) * inv                 # eq. 6 with correction A4
-        wi = (uy * wx - ux * wy) * inv
+        wi = _sub(_sc(uy, wx), _sc(ux, wy)) * inv
         si.vxy, si.omega = vM, wi
     if order >= 2:
         aM = m_state.acc_xy(armM)
@@ -287,9 +317,9 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
         if not still:
             aLx, aLy = g.acc_xy((lx - g.xy[0], ly - g.xy[1]))
             cor = 2.0 * g.omega * sd
-            qx, qy = qx - aLx + cor * uy, qy - aLy - cor * ux    # eq. 7
+            qx, qy = _add(qx - aLx, _sc(uy, cor)), _sub(qy - aLy, _sc(ux, cor))    # eq. 7
         sdd = (qx * rix + qy * riy) * inv
-        si.axy, si.alpha = aM, (uy * qx - ux * qy) * inv
+        si.axy, si.alpha = aM, _sub(_sc(uy, qx), _sc(ux, qy)) * inv
     sj = _slider(g, s0, u0, s, sd, sdd, order, (armz, (zx, zy), (ux, uy)), still)
     sx, sy = sj.xy
     return DyadOut(si, sj, ok, cond, gap, int(mode0), (Slide(s, sd, sdd),), probe=lx + ly + (sx + sy))
