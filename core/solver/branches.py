@@ -35,6 +35,11 @@ GOLDEN_STEPS = 80
 #: locates a touch, a quadratic minimum, to ~sqrt(rounding / curvature) ≈ 1e-8 rad)
 DRAWN_NEAR = 1e-6
 TWO_PI = 2.0 * math.pi
+#: attribute of a local plan (:meth:`Plan.local`) holding, per link, its state at the reference
+#: inputs once the branch offsets of the group that solves it are settled; a later search on
+#: the same plan, or on the plan of the same linkage after a drag (:func:`keep_reference_states`),
+#: starts from them instead of re-running those groups
+REF_STATES = "_branch_reference_states"
 
 
 def golden_min(f, a: float, b: float, steps: int = GOLDEN_STEPS) -> tuple[float, float]:
@@ -108,21 +113,39 @@ def find_branch_points(plan: "Plan", steps, known: dict[str, np.ndarray]) -> dic
     inputs = lp.theta0 + sg * delta
     step_h = TWO_PI / REF_SAMPLES
     run = lp._needed([link for k in todo for link in lp.steps[k].needs]) | todo
-    states: dict = {}   # link -> state at the reference inputs, filled in solving order
+    settled = getattr(lp, REF_STATES, None)
+    if settled is None:
+        settled = {}
+        setattr(lp, REF_STATES, settled)
+    states: dict = dict(settled)   # link -> state at the reference inputs, filled in solving order
     for k in sorted(run):
         step = lp.steps[k]
-        name = step.group.name
+        g = step.group
+        name = g.name
         search = k in todo and name not in known
-        if search and (step.group.kind not in MODAL_KINDS or step.group.fixed):   # fixed: it does not move
+        if not search and name in known and g.link_i in states and g.link_j in states:
+            continue   # settled by an earlier search: its states are kept
+        if search and (g.kind not in MODAL_KINDS or g.fixed):   # fixed: it does not move
             known[name] = np.empty(0)
             search = False
         out = lp.run_steps(inputs, 0, [k], known, states=states)[name]
-        if not search:
-            continue
-        known[name] = _search_group(lp, k, out, delta, step_h, known)
-        if known[name].size:   # the groups after it see it in its own mode on each side of them
-            lp.run_steps(inputs, 0, [k], known, states=states)
+        if search:
+            known[name] = _search_group(lp, k, out, delta, step_h, known)
+            if known[name].size:   # the groups after it see it in its own mode on each side of them
+                lp.run_steps(inputs, 0, [k], known, states=states)
+        if name in known:
+            settled[g.link_i], settled[g.link_j] = states[g.link_i], states[g.link_j]
     return known
+
+
+def keep_reference_states(old: "Plan", new: "Plan", links: set[str]) -> None:
+    """Start the branch-point search of ``new`` — the linkage of ``old`` after a drag, with the
+    same driver pivot, drawn input and groups — from ``old``'s states at the reference inputs of
+    ``links`` (links solved by groups the drag did not reach, whose branch offsets ``new`` keeps:
+    they see exactly the same inputs)."""
+    src = getattr(old.local(), REF_STATES, None)
+    if src:
+        setattr(new.local(), REF_STATES, {link: st for link, st in src.items() if link in links})
 
 
 def _search_group(lp: "Plan", k: int, out, delta: np.ndarray, step_h: float,

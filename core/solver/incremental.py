@@ -19,6 +19,7 @@ from typing import Iterable
 import numpy as np
 
 from ..model.linkage import Linkage
+from .branches import keep_reference_states
 from .plan import Plan, Solution
 
 
@@ -79,6 +80,10 @@ def resweep(old: Solution, plan: Plan, moved: Iterable[str]) -> Solution | None:
     clean_names = {plan.steps[k].group.name for k in range(len(plan.steps)) if k not in dirty}
     old_branches = before._branches or {}
     plan._branches = {name: b for name, b in old_branches.items() if name in clean_names}
+    # and so are their link states at the search's reference inputs: only the dirty groups run
+    clean_links = {link for k, s in enumerate(plan.steps) if k not in dirty for link in (s.group.link_i, s.group.link_j)}
+    if dirty:
+        keep_reference_states(before, plan, clean_links)
     branches = plan.branch_points(sorted(dirty))
     start = time.perf_counter()
     states = dict(old._states)

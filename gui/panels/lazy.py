@@ -8,7 +8,7 @@ from PySide6.QtCore import QTimer
 from PySide6.QtWidgets import QWidget
 
 #: during a drag preview a panel redraws at most once per this many milliseconds
-PREVIEW_INTERVAL_MS = 120
+PREVIEW_INTERVAL_MS = 200
 
 
 def defer_preview(widget: QWidget, change: object, slot: Callable[[], None],

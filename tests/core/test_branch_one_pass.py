@@ -136,3 +136,58 @@ def test_one_pass_runs_each_group_once_at_the_reference_samples(monkeypatch):
     runs.clear()
     per_group_branch_points(compile_plan(lk))
     assert sum(runs) == 24 * 25 // 2
+
+
+def _moved(lk: Linkage, joint: str, dx: float, dy: float) -> Linkage:
+    from dataclasses import replace
+    return replace(lk, joints=tuple(j.moved((j.at[0] + dx, j.at[1] + dy)) if j.id == joint else j
+                                    for j in lk.joints))
+
+
+@pytest.mark.parametrize("joint, dirty", [("P24", 1), ("P20", 5), ("P1", 24)])
+def test_a_drag_searches_only_the_groups_it_reaches(monkeypatch, joint, dirty):
+    """After a move, the re-sweep keeps the branch offsets and the reference-sample link states of
+    the groups the moved joint does not reach: only the dirty groups run at the reference samples,
+    and the offsets and the solution are a fresh plan's, bit for bit."""
+    from mechsketch.core.solver.incremental import resweep
+
+    lk = dyad_chain(24)
+    old = compile_plan(lk).sweep(samples=720)
+    new_lk = _moved(lk, joint, 0.7, -0.4)
+    plan = compile_plan(new_lk, old.plan.groups)
+    runs = []
+    real = type(plan).run_steps
+
+    def counting(self, inputs, order, idx, *a, **kw):
+        idx = list(idx)
+        if np.size(inputs) == branches.REF_SAMPLES:
+            runs.extend(idx)
+        return real(self, inputs, order, idx, *a, **kw)
+
+    monkeypatch.setattr(type(plan), "run_steps", counting)
+    sol = resweep(old, plan, {joint})
+    assert len(runs) == dirty and len(set(runs)) == dirty
+    fresh = compile_plan(new_lk)
+    _same(plan.branch_points(), fresh.branch_points())
+    full = fresh.sweep(samples=720)
+    for j in new_lk.joint_ids:
+        assert np.array_equal(sol.position(j), full.position(j), equal_nan=True)
+
+
+def test_kept_reference_states_carry_the_flips_of_a_parallelogram_chain():
+    """A chain of parallelograms on tilted frames then a general dyad: moving the last joint keeps
+    every parallelogram's states (with their flips) and finds the last group's offsets, equal to
+    a fresh search's and to the per-group reference."""
+    from mechsketch.core.solver.incremental import resweep
+
+    lk = parallelogram_chain([True, True, True, False], [(0.0, 0.0)] * 3 + [(5.0, -3.0)], [0.0, 30.0, -20.0, 10.0])
+    old = compile_plan(lk).sweep(samples=720)
+    new_lk = _moved(lk, "P4", 1.5, 0.5)
+    plan = compile_plan(new_lk, old.plan.groups)
+    sol = resweep(old, plan, {"P4"})
+    fresh = compile_plan(new_lk)
+    _same(plan.branch_points(), fresh.branch_points())
+    _same(plan.branch_points(), per_group_branch_points(compile_plan(new_lk)))
+    full = fresh.sweep(samples=720)
+    for j in new_lk.joint_ids:
+        assert np.array_equal(sol.position(j), full.position(j), equal_nan=True)
