@@ -118,23 +118,34 @@ def find_branch_points(plan: "Plan", steps, known: dict[str, np.ndarray]) -> dic
         settled = {}
         setattr(lp, REF_STATES, settled)
     states: dict = dict(settled)   # link -> state at the reference inputs, filled in solving order
-    for k in sorted(run):
-        step = lp.steps[k]
-        g = step.group
-        name = g.name
-        search = k in todo and name not in known
-        if not search and name in known and g.link_i in states and g.link_j in states:
-            continue   # settled by an earlier search: its states are kept
-        if search and (g.kind not in MODAL_KINDS or g.fixed):   # fixed: it does not move
-            known[name] = np.empty(0)
-            search = False
-        out = lp.run_steps(inputs, 0, [k], known, states=states)[name]
-        if search:
-            known[name] = _search_group(lp, k, out, delta, step_h, known)
-            if known[name].size:   # the groups after it see it in its own mode on each side of them
-                lp.run_steps(inputs, 0, [k], known, states=states)
-        if name in known:
-            settled[g.link_i], settled[g.link_j] = states[g.link_i], states[g.link_j]
+    pending = [k for k in sorted(run)   # (a group settled by an earlier search keeps its states)
+               if not (lp.steps[k].group.name in known and lp.steps[k].group.link_i in states
+                       and lp.steps[k].group.link_j in states)]
+    ring = np.arange(REF_SAMPLES)
+    nbr = (np.roll(ring, 1), np.roll(ring, -1))   # each reference sample's neighbours
+    i = 0
+    while i < len(pending):
+        # the rest in one call (one driver state per call); found offsets make the groups after
+        # that one run again, on its states in its own mode on each side of them
+        outs = lp.run_steps(inputs, 0, pending[i:], known, states=states)
+        start, i = i, len(pending)
+        for j in range(start, len(pending)):
+            k = pending[j]
+            g = lp.steps[k].group
+            flipped = False
+            if k in todo and g.name not in known:
+                if g.kind not in MODAL_KINDS or g.fixed:   # fixed: it does not move
+                    known[g.name] = np.empty(0)
+                else:
+                    known[g.name] = _search_group(lp, k, outs[g.name], delta, step_h, known, nbr)
+                    if known[g.name].size:
+                        lp.run_steps(inputs, 0, [k], known, states=states)
+                        flipped = True
+            if g.name in known:
+                settled[g.link_i], settled[g.link_j] = states[g.link_i], states[g.link_j]
+            if flipped:   # the groups after it run again
+                i = j + 1
+                break
     return known
 
 
@@ -149,18 +160,19 @@ def keep_reference_states(old: "Plan", new: "Plan", links: set[str]) -> None:
 
 
 def _search_group(lp: "Plan", k: int, out, delta: np.ndarray, step_h: float,
-                  known: dict[str, np.ndarray]) -> np.ndarray:
+                  known: dict[str, np.ndarray], nbr: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
     """The sorted branch offsets of step ``k`` of the local plan ``lp`` from its output ``out``
     at the reference offsets ``delta`` (rad, (REF_SAMPLES,)) in its drawn mode: sampled local
-    minima of the assembly margin refined by golden-section search on its chain of steps."""
+    minima of the assembly margin refined by golden-section search on its chain of steps.
+    ``nbr``: the indices of each sample's previous and next sample (round the turn)."""
     step = lp.steps[k]
     name = step.group.name
     sg = lp.direction
+    prev, nxt = nbr
     ok = out.ok if out.singular is None else out.ok | out.singular   # assembled
     gap = np.where(ok, out.gap, -np.inf)
-    good = ok & np.roll(ok, 1) & np.roll(ok, -1)
-    cand = np.flatnonzero(good & (gap <= np.roll(gap, 1)) & (gap <= np.roll(gap, -1))
-                          & (gap < CANDIDATE * step.scale))
+    good = ok & ok[prev] & ok[nxt]
+    cand = np.flatnonzero(good & (gap <= gap[prev]) & (gap <= gap[nxt]) & (gap < CANDIDATE * step.scale))
     thr = BRANCH_REL * (step.scale + step.coord)
     idx = None
 
