@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable
 
-from PySide6.QtCore import QByteArray, QObject, Qt, QTimer
+from PySide6.QtCore import QByteArray, QObject, QSize, Qt, QTimer
 from PySide6.QtGui import QAction, QCloseEvent, QKeySequence
 from PySide6.QtWidgets import QDockWidget, QLabel, QMainWindow, QMenu, QVBoxLayout, QWidget
 
@@ -52,6 +52,12 @@ def redo_shortcuts() -> list[QKeySequence]:
 
 #: version of the saved dock layout (bump when the docks change)
 LAYOUT_VERSION = 1
+
+#: the plots panel's size hint and minimum size hint (px), given to its stand-in until it is made
+#: so that the first layout (and the canvas's first zoom to fit) is the one the panel gets
+#: (tests/gui/test_startup_imports.py checks them against the real panel)
+PLOTS_SIZE_HINT = (604, 511)
+PLOTS_MINIMUM_SIZE_HINT = (167, 99)
 
 
 @dataclass
@@ -141,7 +147,8 @@ class MainWindow(QMainWindow):
     # -- construction helpers ----------------------------------------------------------------
     def _dock(self, title: str, widget: QWidget | Callable[[], QWidget], area: Qt.DockWidgetArea) -> QDockWidget:
         """A dock holding ``widget``, or (a function) the widget it makes after the first frame."""
-        dock = QDockWidget(title, self) if isinstance(widget, QWidget) else LazyDock(title, self, widget)
+        dock = QDockWidget(title, self) if isinstance(widget, QWidget) else \
+            LazyDock(title, self, widget, QSize(*PLOTS_SIZE_HINT), QSize(*PLOTS_MINIMUM_SIZE_HINT))
         dock.setObjectName(f"dock:{title}")
         if isinstance(widget, QWidget):
             dock.setWidget(widget)
@@ -476,11 +483,19 @@ class MainWindow(QMainWindow):
 
 
 class _FirstPaint(QWidget):
-    """An empty widget that calls ``callback`` (through the event loop) once it has been painted."""
+    """An empty widget that calls ``callback`` (through the event loop) once it has been painted;
+    it asks for the size of the widget it stands in for."""
 
-    def __init__(self, callback: Callable[[], Any]) -> None:
+    def __init__(self, callback: Callable[[], Any], hint: QSize, minimum: QSize) -> None:
         super().__init__()
         self._callback: Callable[[], Any] | None = callback
+        self._hint, self._minimum = hint, minimum
+
+    def sizeHint(self) -> QSize:  # noqa: N802 - Qt override
+        return self._hint
+
+    def minimumSizeHint(self) -> QSize:  # noqa: N802 - Qt override
+        return self._minimum
 
     def paintEvent(self, event) -> None:  # noqa: N802 - Qt override
         super().paintEvent(event)
@@ -493,12 +508,14 @@ class LazyDock(QDockWidget):
     """A dock whose content ``factory()`` makes after the window's first frame: the dock first
     holds an empty widget; when that has been painted (the first frame is on screen), the content
     is made on the next turn of the event loop. :meth:`widget` makes it at once if it is not there
-    yet, so code reading the dock always gets the real content."""
+    yet, so code reading the dock always gets the real content. ``hint`` and ``minimum``: the
+    content's size hints, which the stand-in reports so that the window lays out as with it."""
 
-    def __init__(self, title: str, parent: QWidget, factory: Callable[[], QWidget]) -> None:
+    def __init__(self, title: str, parent: QWidget, factory: Callable[[], QWidget], hint: QSize,
+                 minimum: QSize) -> None:
         super().__init__(title, parent)
         self._factory: Callable[[], QWidget] | None = factory
-        super().setWidget(_FirstPaint(self.ensure_content))
+        super().setWidget(_FirstPaint(self.ensure_content, hint, minimum))
 
     @property
     def pending(self) -> bool:

@@ -94,3 +94,47 @@ def test_plots_made_after_the_first_paint_when_shown(qtbot, tmp_path):
     assert type(dock.widget()).__name__ == "PlotsPanel" and dock.widget().isVisible() is True
     parts.autosave.stop()
     parts.window.close()
+
+
+def test_stand_in_asks_for_the_plots_panels_size(qtbot, tmp_path):
+    """The first layout is the one the real panel gets: same size hints."""
+    from PySide6.QtWidgets import QDockWidget
+
+    from mechsketch.gui.app import build
+
+    parts = build(dialogs=FakeDialogs(), settings_path=tmp_path / "s.ini", state_dir=tmp_path / "st",
+                  offer_recovery=False)
+    qtbot.addWidget(parts.window)
+    dock = parts.window.docks["plots"]
+    stand_in = QDockWidget.widget(dock)             # what the dock holds now, not made on demand
+    assert dock.pending and type(stand_in).__name__ == "_FirstPaint"
+    plots = parts.window.plots
+    assert (stand_in.sizeHint(), stand_in.minimumSizeHint()) == (plots.sizeHint(), plots.minimumSizeHint())
+    parts.autosave.stop()
+    parts.window.close()
+
+
+def test_canvas_fits_as_with_the_plots_made_before_the_window_shows(qtbot, tmp_path):
+    """The canvas zooms to fit at its first show: with the plots made after the first frame it
+    must land on the same view as when they exist from the start (they did before issue 14)."""
+    from mechsketch.gui.app import build
+
+    views = []
+    for eager in (True, False):
+        parts = build(dialogs=FakeDialogs(), settings_path=tmp_path / f"{eager}.ini",
+                      state_dir=tmp_path / f"st{eager}", offer_recovery=False)
+        qtbot.addWidget(parts.window)
+        if eager:
+            parts.window.plots
+        parts.window.show()
+        dock = parts.window.docks["plots"]
+        qtbot.waitUntil(lambda: not dock.pending, timeout=20000)
+        qtbot.waitUntil(lambda: parts.window.docks["plots"].width() < 500, timeout=20000)   # size_docks ran
+        canvas = parts.window.canvas
+        centre = canvas.mapToScene(canvas.viewport().rect().center())
+        views.append((canvas.transform().m11(), round(centre.x(), 6), round(centre.y(), 6),
+                      canvas.viewport().width(), dock.width()))
+        parts.autosave.stop()
+        parts.window.close()
+    assert views[0] == views[1]
+    assert views[0][0] > 0
