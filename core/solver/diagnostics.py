@@ -241,15 +241,20 @@ def sampled_dead_points(sol: Solution) -> list[DeadPoint]:
                 dead.append(DeadPoint(float(x[k]), g.name, DeadPointKind.LIMIT, 0.0, unit))
     branches = plan.branch_points() if unit == "rad" else {}   # found by the sweep already
     step = abs(x[1] - x[0]) if n > 1 else 2 * math.pi
+    ring = np.arange(n)
+    before, after = np.roll(ring, 1), np.roll(ring, -1)
     for g, o in outs:
         if o.singular is not None:
             dead += [DeadPoint(float(x[k]), g.name, DeadPointKind.SINGULAR, 0.0, unit) for k in np.flatnonzero(o.singular)]
         if g.fixed:
             continue
+        low = np.flatnonzero(sol.valid & (o.cond < TOGGLE_COND))   # few samples, if any
+        if low.size == 0:
+            continue
         c = np.where(sol.valid, o.cond, np.inf)
-        prev, nxt = np.roll(c, 1), np.roll(c, -1)
+        prev, nxt = c[before[low]], c[after[low]]
         bp = branches.get(g.name, np.empty(0))
-        for k in np.flatnonzero((c < TOGGLE_COND) & (c <= prev) & (c <= nxt) & np.isfinite(prev) & np.isfinite(nxt)):
+        for k in low[(c[low] <= prev) & (c[low] <= nxt) & np.isfinite(prev) & np.isfinite(nxt)]:
             off = (plan.direction * (x[k] - plan.theta0)) % (2 * math.pi)
             near = bp.size and np.min(np.abs(np.remainder(bp - off + math.pi, 2 * math.pi) - math.pi)) <= step
             dead.append(DeadPoint(float(x[k]), g.name, DeadPointKind.CHANGE_POINT if near else DeadPointKind.TOGGLE,

@@ -141,6 +141,30 @@ class _Item(QGraphicsItem):
         return self._rect
 
 
+#: drawings anchored this far (px) outside the painted surface may still reach it (a label's text)
+SURFACE_PAD_PX = 240.0
+
+
+def _link_box(pose: ElementPose, link, px: float) -> QRectF:
+    """The box of a link's joints at ``pose``, one pixel (``px`` mm) wider all round (a bar along
+    an axis has a box of no area, which would intersect nothing)."""
+    return _rect_of(pose.at[j] for j in link.joints if j in pose.at).adjusted(-px, -px, px, px)
+
+
+def _surface(painter: QPainter, pad: float) -> QRectF | None:
+    """The painter's surface (its device: the viewport, or an item's cache pixmap) in the painter's
+    current coordinates, grown by ``pad`` in those units: a drawing anchored outside it cannot
+    show. None when the painter has no device size to go by."""
+    dev = painter.device()
+    if dev is None or dev.width() <= 0 or dev.height() <= 0:
+        return None
+    inv, ok = painter.deviceTransform().inverted()
+    if not ok:
+        return None
+    rect = inv.mapRect(QRectF(0.0, 0.0, float(dev.width()), float(dev.height())))
+    return rect.adjusted(-pad, -pad, pad, pad)
+
+
 def _rect_of(points) -> QRectF:
     pts = [p for p in points if math.isfinite(p[0]) and math.isfinite(p[1])]
     if not pts:
@@ -186,25 +210,28 @@ class LinkageItem(_Item):
         px = _px(painter)
         painter.setRenderHint(QPainter.RenderHint.Antialiasing, True)
         lk = self.pose.linkage
+        seen = _surface(painter, SURFACE_PAD_PX * px)   # what can reach the painted surface
         for jid in self.pose.guide:
             self._guide(painter, jid, px)
         # plates under bars, the driver on top: a crank is never hidden under a coupler plate
         order = sorted((k for k in lk.links if k.id != lk.ground),
                        key=lambda k: (k.id == lk.driver.link, len(k.joints) <= 2))
         for link in order:
-            self._link(painter, link.id, px)
+            if seen is None or seen.intersects(_link_box(self.pose, link, px)):
+                self._link(painter, link.id, px)
         grounded = set(lk.link(lk.ground).joints) if lk.ground in lk.link_ids else set()
-        for j in lk.joints:
+        shown = [j for j in lk.joints if seen is None or seen.contains(QPointF(*self.pose.at[j.id]))]
+        for j in shown:
             if j.id in grounded and j.kind is JointKind.R:
                 draw_ground(painter, self.pose.at[j.id], px)
-        for j in lk.joints:
+        for j in shown:
             if j.kind is JointKind.P:
                 self._block(painter, j.id, px)
-        for j in lk.joints:
+        for j in shown:
             if j.kind is JointKind.R:
                 self._joint(painter, j.id, px)
         if self.show_labels:
-            self._labels(painter, px)
+            self._labels(painter, px, seen)
         if self.pose.error:
             self._badge(painter, px)
 
@@ -294,7 +321,9 @@ class LinkageItem(_Item):
         painter.drawRect(QRectF(-w, -h, 2 * w, 2 * h))
         painter.restore()
 
-    def _labels(self, painter: QPainter, px: float) -> None:
+    def _labels(self, painter: QPainter, px: float, surface: QRectF | None = None) -> None:
+        """Joint and link names; those anchored outside ``surface`` (item coordinates, None:
+        everywhere) are left out."""
         lk = self.pose.linkage
         seen: dict[tuple[int, int], int] = {}
         for j in lk.joints:
@@ -302,10 +331,14 @@ class LinkageItem(_Item):
             key = (round(x / (4 * px)), round(y / (4 * px)))
             stack = seen.get(key, 0)
             seen[key] = stack + 1
+            if surface is not None and not surface.contains(QPointF(x, y)):
+                continue
             dx = 8.0 if j.kind is JointKind.R else 18.0
             _text(painter, (x, y), j.id, px, dx, 7.0 + 12.0 * stack, INK, LABEL_PX, True)
         for link in lk.links:
             if link.id == lk.ground:
+                continue
+            if surface is not None and not surface.intersects(_link_box(self.pose, link, px)):
                 continue
             poly = link_outline(self.pose, link.id)
             if len(poly) < 2:
