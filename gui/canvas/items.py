@@ -405,6 +405,7 @@ class TraceItem(_Item):
         self.circle_ok = QPainterPath()
         self.circle_bad = QPainterPath()
         self._data: tuple[ElementPose, list[str]] | None = None
+        self._circle_of: tuple | None = None   # (key, valid mask, paths) of the driver circle
         self._built_px = 0.0
         self.setZValue(2)
 
@@ -442,14 +443,22 @@ class TraceItem(_Item):
         c = complex(*lk.joint(drv.pivot).at)
         r = abs(complex(*lk.joint(tip).at) - c)
         th = arrays.solution.input
-        xy = np.column_stack([c.real + r * np.cos(th), c.imag + r * np.sin(th)])
         valid = arrays.valid
+        # a drag of another joint leaves the circle as it was: same centre, radius, inputs, mask
+        key = (c, r, th, step)
+        old = self._circle_of
+        if old is not None and old[0][:2] == key[:2] and old[0][2] is th and old[0][3] == step \
+                and np.array_equal(old[1], valid):
+            self.circle_ok, self.circle_bad = old[2]
+            return
+        xy = np.column_stack([c.real + r * np.cos(th), c.imag + r * np.sin(th)])
         ok = np.where(valid[:, None], xy, np.nan)
         self.circle_ok = _path(ok, close=bool(valid.all()), step=step)
         if not valid.all():
             bad = ~valid
             grown = bad | np.roll(bad, 1) | np.roll(bad, -1)
             self.circle_bad = _path(np.where(grown[:, None], xy, np.nan), step=step)
+        self._circle_of = (key, valid.copy(), (self.circle_ok, self.circle_bad))
 
     def paint(self, painter: QPainter, option: QStyleOptionGraphicsItem, widget: QWidget | None = None) -> None:
         painter.setRenderHint(QPainter.RenderHint.Antialiasing, True)

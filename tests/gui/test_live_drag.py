@@ -190,3 +190,26 @@ def test_culling_what_cannot_reach_the_viewport_paints_the_same_pixels(qtbot, mo
         monkeypatch.undo()
     monkeypatch.setattr(canvas_items, "_surface", lambda painter, pad: None)
     assert shot() == culled
+
+
+def test_the_driver_circle_kept_during_a_drag_is_the_one_drawn_afresh(qtbot):
+    """Dragging a joint the crank does not carry keeps the driver circle's paths; they are those a
+    fresh canvas draws (and a drag that changes the reachable range redraws them)."""
+    ctl, view, user = make_view(qtbot, example("fourbar_crank_rocker"))
+    view.snap_enabled = False
+    trace = view._items["fourbar"].trace
+    d0 = ctl.scene.element("fourbar").joint("D").at
+    user.press(d0)
+    for k in range(1, 6):   # first a small move (full turn kept), then towards a limited range
+        user.qtbot.mouseMove(user.vp, user.at((d0[0] + 2.0 * k ** 2, d0[1] + 4.0 * k ** 2)))
+        view.viewport().repaint()
+        fresh_ctl = SceneController(ctl.scene)
+        fresh = CanvasView(fresh_ctl)
+        qtbot.addWidget(fresh)
+        fresh.zoom_to_rect(view.mapToScene(view.viewport().rect()).boundingRect())
+        other = fresh._items["fourbar"].trace
+        other.set_px(trace._px)
+        other.set_data(*other._data)
+        assert trace.circle_ok == other.circle_ok and trace.circle_bad == other.circle_bad
+    assert not trace.circle_bad.isEmpty()   # the last moves cut the range: the circle was redrawn
+    user.release((d0[0] + 50.0, d0[1] + 100.0))
