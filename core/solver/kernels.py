@@ -298,14 +298,18 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
     udr = _add(_sc(ux, rix), _sc(uy, riy))
     cond = np.abs(udr) / li
     still = g.still()
+    on_guide = not still and l0 == s0   # the pin is the slider's anchor: its motion is L's
     sd = sdd = None
+    if not still:
+        gx, gy = g.xy
+        armL = (lx - gx, ly - gy)                        # the guide's point under L
     if order >= 1:
         inv = 1.0 / udr
         vM = m_state.vel_xy(armM)
         if still:
             wx, wy = vM
         else:
-            vLx, vLy = g.vel_xy((lx - g.xy[0], ly - g.xy[1]))     # the guide's point under L
+            vLx, vLy = g.vel_xy(armL)
             wx, wy = vM[0] - vLx, vM[1] - vLy
         sd = (wx * rix + wy * riy) * inv                 # eq. 6 with correction A4
         wi = _sub(_sc(uy, wx), _sc(ux, wy)) * inv
@@ -315,14 +319,26 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
         wi2 = wi * wi
         qx, qy = aM[0] - wi2 * rix, aM[1] - wi2 * riy
         if not still:
-            aLx, aLy = g.acc_xy((lx - g.xy[0], ly - g.xy[1]))
+            aLx, aLy = g.acc_xy(armL)
             cor = 2.0 * g.omega * sd
             qx, qy = _add(qx - aLx, _sc(uy, cor)), _sub(qy - aLy, _sc(ux, cor))    # eq. 7
         sdd = (qx * rix + qy * riy) * inv
         si.axy, si.alpha = aM, _sub(_sc(uy, qx), _sc(ux, qy)) * inv
-    sj = _slider(g, s0, u0, s, sd, sdd, order, (armz, (zx, zy), (ux, uy)), still)
-    sx, sy = sj.xy
-    return DyadOut(si, sj, ok, cond, gap, int(mode0), (Slide(s, sd, sdd),), probe=lx + ly + (sx + sy))
+    if on_guide:
+        sj = LinkState.real(s0, (lx, ly), None)
+        sj.share_rotation(g)
+        if order >= 1:   # v_L = v_M + ω_i·J·r_i
+            sj.vxy, sj.omega = (vM[0] - wi * riy, vM[1] + wi * rix), g.omega
+        if order >= 2:   # a_L = a_M + α_i·J·r_i − ω_i²·r_i
+            ai = si.alpha
+            sj.axy = (aM[0] - ai * riy - wi2 * rix, aM[1] + ai * rix - wi2 * riy)
+            sj.alpha = g.alpha
+        probe = lx + ly
+    else:
+        sj = _slider(g, s0, u0, s, sd, sdd, order, (armz, (zx, zy), (ux, uy)), still)
+        sx, sy = sj.xy
+        probe = lx + ly + (sx + sy)
+    return DyadOut(si, sj, ok, cond, gap, int(mode0), (Slide(s, sd, sdd),), probe=probe)
 
 
 def rpr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, u0: complex,

@@ -252,6 +252,9 @@ class LinkState:
         w = self.omega
         ax, ay = self.arm_xy(p0)
         o0, o1 = out[:, 0], out[:, 1]
+        if isinstance(ax, float) and isinstance(ay, float) and ax == 0.0 and ay == 0.0:
+            out[:, 0], out[:, 1] = vx, vy           # the anchor
+            return out
         if isinstance(w, float):
             if w == 0.0:
                 out[:, 0], out[:, 1] = vx, vy
@@ -272,6 +275,9 @@ class LinkState:
         w, al = self.omega, self.alpha
         ax, ay = self.arm_xy(p0)
         o0, o1 = out[:, 0], out[:, 1]
+        if isinstance(ax, float) and isinstance(ay, float) and ax == 0.0 and ay == 0.0:
+            out[:, 0], out[:, 1] = gx, gy           # the anchor
+            return out
         if isinstance(al, float) and al == 0.0:
             if isinstance(w, float) and w == 0.0:
                 out[:, 0], out[:, 1] = gx, gy
