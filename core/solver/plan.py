@@ -191,8 +191,8 @@ class Plan:
         branches = self.branch_points(idx)
         start = time.perf_counter()
         inputs = np.asarray(inputs, dtype=float).reshape(-1)
-        w = self.omega if omega is None else (float(omega) if np.ndim(omega) == 0 else np.asarray(omega, float))
-        alpha = float(alpha) if np.ndim(alpha) == 0 else np.asarray(alpha, dtype=float)
+        w = self.omega if omega is None else _rate(omega)
+        alpha = _rate(alpha)
         states: dict[str, K.LinkState] = {}
         outs = self.run_steps(inputs, order, idx, branches, w, alpha, states)
         valid = None
@@ -362,6 +362,13 @@ def _xy(z: np.ndarray, n: int) -> np.ndarray:
     """Complex (N,) (or scalar) -> float (N, 2) view."""
     z = np.ascontiguousarray(np.broadcast_to(z, (n,)), dtype=complex)
     return z.view(np.float64).reshape(n, 2)
+
+
+def _rate(v) -> float | np.ndarray:
+    """An input rate as a float, or a float array when it varies over the samples."""
+    if isinstance(v, (float, int)) or np.ndim(v) == 0:
+        return float(v)
+    return np.asarray(v, dtype=float)
 
 
 def _below(v, bound: float) -> bool:
