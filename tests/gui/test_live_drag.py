@@ -15,6 +15,7 @@ from mechsketch.gui.animation import AnimationPlayer
 from mechsketch.gui.canvas.view import CanvasView
 from mechsketch.gui.controller import SceneController
 from mechsketch.gui.panels.diagnostics import diagnostics_lines
+from mechsketch.gui.panels.properties import PropertiesPanel
 from mechsketch.gui.scrubbar import ScrubTrack
 
 from app_fakes import shell  # noqa: F401 - fixture
@@ -92,6 +93,12 @@ def test_a_drag_runs_no_diagnostics_per_move_and_shows_fresh_ones_on_release(she
     marks = view._items[eid].dead.marks
     assert marks == fresh_view._items[eid].dead.marks
     assert (len(marks) > 0) == (name == "double_rocker")
+    # the properties panel (redrawn a few times a second during the drag) shows a fresh panel's values
+    fresh.set_selection(list(ctl.selection))
+    fresh_props = PropertiesPanel(fresh)
+    qtbot.addWidget(fresh_props)
+    shown_fields = {k: f.text() for k, f in win.properties.fields.items()}
+    assert shown_fields and shown_fields == {k: f.text() for k, f in fresh_props.fields.items()}
     fresh_track = ScrubTrack(fresh, AnimationPlayer(fresh))
     assert win.scrubbar.track._data()[2] == fresh_track._data()[2]   # the dead points on the scrub bar
     assert (len(fresh_track._data()[2]) > 0) == (name == "double_rocker")
