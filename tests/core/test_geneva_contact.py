@@ -210,3 +210,27 @@ def test_every_assumption_is_stated():
         assert words in text
     text = " ".join(contact(default(), 100, PAPER).assumptions)
     assert "eq. (3) as printed" in text and "a_paper/2" in text and "deformed radius r_p − Δ" in text
+
+
+@pytest.mark.parametrize("n", [1, 2, 3, 8, 48, 96])
+def test_gauss_legendre_rule_against_mpmath(n):
+    """The rule the contact integrals use (Golub–Welsch plus a Newton step, not numpy.polynomial):
+    nodes and weights against mpmath's at 40 digits, and exact for x^(2n−2)."""
+    import mpmath
+
+    from mechsketch.core.analyses.geneva_contact import _gauss
+
+    x, w = _gauss.__wrapped__(n)
+    with mpmath.workdps(40):
+        xs, ws = [], []
+        for k in range(n)[::-1]:  # ascending: Newton from Tricomi's estimate of the k-th largest root
+            t = mpmath.cos(mpmath.pi * (4 * k + 3) / (4 * n + 2))
+            for _ in range(10):
+                dp = n * (t * mpmath.legendre(n, t) - mpmath.legendre(n - 1, t)) / (t * t - 1)
+                t -= mpmath.legendre(n, t) / dp
+            xs.append(t)
+            ws.append(2 / ((1 - t * t) * dp ** 2))
+    assert all(b - a > 1e-3 / n for a, b in zip(xs, xs[1:]))  # n distinct roots
+    assert np.abs(x - np.array([float(t) for t in xs])).max() <= 4e-16
+    assert np.abs(w / np.array([float(v) for v in ws]) - 1).max() <= 2e-13
+    assert float(np.sum(w * x ** (2 * n - 2))) == pytest.approx(2 / (2 * n - 1), rel=1e-14)
