@@ -1,0 +1,342 @@
+"""The result of a solve: kinematics of a linkage at N driver samples, read joint by joint.
+
+:class:`Solution` holds the link states the kernels computed (:class:`~.link_state.LinkState`)
+and the groups' outputs, and extracts from them each joint's (N, 2) position, velocity and
+acceleration (mm, mm/s, mm/s²) and each link's rotation and rates, on request. A joint is read
+from the link that reports it (:attr:`Plan.joint_at`); the link keeps the points it computed, so
+that a joint's position is computed once per solve however often it is read.
+"""
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..errors import RequestError, UnknownIdError
+from ..model.linkage import JointKind, Linkage
+from . import kernels as K
+from .structure import MODAL_KINDS, Group, GroupKind
+from .tolerances import RATE_REL
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .plan import Plan
+
+__all__ = ["Solution", "unwrap_finite"]
+
+
+def _c(xy) -> complex:
+    """An (x, y) pair as x + iy."""
+    return complex(float(xy[0]), float(xy[1]))
+
+
+def _axis(linkage: Linkage, jid: str) -> tuple[complex, complex]:
+    """A P joint's drawn point and unit axis direction."""
+    j = linkage.joint(jid)
+    a = math.radians(j.axis_deg or 0.0)
+    return _c(j.at), complex(math.cos(a), math.sin(a))
+
+
+def _below(v, bound: float) -> bool:
+    """|v| ≤ bound everywhere (v a scalar or an array; False for NaN)."""
+    if isinstance(v, np.ndarray) and v.ndim:
+        return bool(v.size == 0 or np.max(np.abs(v)) <= bound)
+    return bool(abs(float(v)) <= bound)
+
+
+def _xy2(p: tuple, n: int) -> np.ndarray:
+    """(x, y) pair of float (N,) arrays (or scalars) -> a new float (N, 2) array."""
+    out = np.empty((n, 2))
+    out[:, 0] = p[0]
+    out[:, 1] = p[1]
+    return out
+
+
+def unwrap_finite(a: np.ndarray) -> np.ndarray:
+    """np.unwrap along samples, restarting after NaN gaps (each finite run unwrapped on its own)."""
+    out = np.array(a, dtype=float)
+    fin = np.isfinite(out)
+    if fin.all():
+        return np.unwrap(out)
+    edges = np.flatnonzero(np.diff(np.concatenate(([0], fin.view(np.int8), [0]))))
+    for s, e in zip(edges[::2], edges[1::2]):
+        out[s:e] = np.unwrap(out[s:e])
+    return out
+
+
+class Solution:
+    """Kinematics of a linkage at N driver samples.
+
+    Joint results are (N, 2) arrays (mm, mm/s, mm/s²); link results (N,) (rad, rad/s, rad/s²).
+    Samples where some evaluated group cannot be assembled are NaN and ``valid`` is False there.
+    """
+
+    def __init__(self, plan: Plan, inputs, order, states, outs, valid, omega, t, elapsed, alpha=0.0):
+        self.plan = plan
+        #: (N,) the driver's input at each sample: the crank angle (rad) or the actuator's length
+        #: (cylinder) or displacement along its guide (slider), mm — see ``plan.input_unit``
+        self.input = inputs
+        self.order = order
+        self.valid = valid
+        #: the input's rate (rad/s or mm/s) and acceleration (rad/s² or mm/s²): scalars or (N,)
+        self.omega_driver = omega
+        self.alpha_driver = alpha
+        self._t = t
+        self.elapsed = elapsed
+        self._states = states
+        self._outs = outs
+        self._n = inputs.shape[0]
+        self._all_valid = bool(valid.all())
+        self._quiet: bool | None = None
+        self._rates_valid: np.ndarray | None = None
+
+    def __len__(self) -> int:
+        return self.input.shape[0]
+
+    @property
+    def t(self) -> np.ndarray:
+        """(N,) time of each sample, s (made on first use when the solve was not given one)."""
+        if self._t is None:
+            inputs, omega = self.input, self.omega_driver
+            self._t = ((inputs - inputs[0]) / omega if np.ndim(omega) == 0 and omega
+                       else np.zeros_like(inputs))
+        return self._t
+
+    @t.setter
+    def t(self, value: np.ndarray) -> None:
+        self._t = value
+
+    @property
+    def rates_valid(self) -> np.ndarray:
+        """(N,) bool: ``valid`` samples whose velocities (and accelerations, at order 2) are given:
+        every solved group's velocity system is conditioned so that the rates' estimated relative
+        error, 8·eps·(1 + coordinates/size)/cond² (/cond for PRP and RPP), is below
+        :data:`~.tolerances.RATE_REL` — not at a toggle or change point, where they are 0/0 or
+        rounding noise — and every link's rates are finite (no overflow at extreme speed).
+        All False for a solve of order 0."""
+        if self.order < 1:
+            return np.zeros(len(self), dtype=bool)
+        if self._rates_valid is None:
+            ok = self.valid.copy()
+            eps = np.finfo(float).eps
+            with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+                for step in self.plan.steps:
+                    out = self._outs.get(step.group.name)
+                    if out is None or step.group.fixed:
+                        continue
+                    c = np.broadcast_to(np.asarray(out.cond, dtype=float), ok.shape)
+                    if step.group.kind in MODAL_KINDS:
+                        c = c * c
+                    ok &= 8.0 * eps * (1.0 + step.coord / step.scale) <= RATE_REL * c
+                for st in self._states.values():
+                    rates = [*st.vxy, st.omega] + ([*st.axy, st.alpha] if self.order >= 2 else [])
+                    for r in rates:
+                        ok &= np.broadcast_to(np.isfinite(np.asarray(r)), ok.shape)
+            self._rates_valid = ok
+        return self._rates_valid
+
+    @property
+    def singular(self) -> np.ndarray:
+        """(N,) bool: samples where a group assembles but its pose is undetermined (its outer
+        joints coincide: a rhombus or a kite where B meets D). They are not ``valid`` (NaN, not
+        a guess); the diagnostics report them as singular points."""
+        out = np.zeros(len(self), dtype=bool)
+        for o in self._outs.values():
+            if o.singular is not None:
+                out |= o.singular
+        return out
+
+    # -- internals ------------------------------------------------------------------------
+    def _state(self, link: str) -> K.LinkState:
+        try:
+            return self._states[link]
+        except KeyError:
+            lk = self.plan.linkage
+            if link not in lk.link_ids:
+                raise UnknownIdError(f"linkage {lk.id!r} has no link {link!r}") from None
+            raise UnknownIdError(f"link {link!r} was not solved (not requested: ask for joints "
+                                 f"on it, or for all joints)") from None
+
+    def _mask(self, a: np.ndarray) -> np.ndarray:
+        """NaN where the pose is not assembled (arithmetic on NaN/inf there raises no warnings)."""
+        if self._all_valid:
+            return a
+        if a.ndim == 2:
+            return np.where(self.valid[:, None], a, np.nan)
+        return np.where(self.valid, a, np.nan)
+
+    def _is_quiet(self) -> bool:
+        """True when the rates cannot meet inf, 0/0 or overflow in the extraction's arithmetic:
+        every sample assembled, every group's conditioning at least 1e-8, the input's rate at most
+        1e30 and its acceleration 1e60 (per s, s²), coordinates at most 1e30 mm: the rates are
+        then below ~1e130 and their squares times the arms finite. Otherwise the extraction runs
+        under ``np.errstate`` (1 µs a call)."""
+        q = self._quiet
+        if q is None:
+            q = (self._all_valid and self.plan.coord_scale <= 1e30
+                 and _below(self.omega_driver, 1e30) and _below(self.alpha_driver, 1e60))
+            for out in self._outs.values() if q else ():
+                c = out.cond
+                if isinstance(c, np.ndarray) and c.size and not c.min() >= 1e-8:
+                    q = False
+                    break
+            self._quiet = q
+        return q
+
+    def _need(self, order: int, what: str) -> None:
+        if self.order < order:
+            raise RequestError(f"{what} needs a solve with order >= {order} (this one has order {self.order})")
+
+    def _joint(self, joint: str) -> tuple[K.LinkState, complex]:
+        e = self.plan.joint_at.get(joint)
+        if e is None:
+            raise UnknownIdError(f"linkage {self.plan.linkage.id!r} has no joint {joint!r}")
+        st = self._states.get(e[0])
+        return (self._state(e[0]) if st is None else st), e[1]
+
+    def link_state(self, link: str) -> K.LinkState:
+        """The kernel state of ``link`` (anchor, rotation and their rates: complex/float (N,) or
+        scalars, mm and rad units; see :class:`~mechsketch.core.solver.kernels.LinkState`), for
+        analyses that work on many points of a link at once (the kinetostatics). Raises
+        :class:`UnknownIdError` for a link not solved here."""
+        return self._state(link)
+
+    # -- joints and points ----------------------------------------------------------------
+    def position(self, joint: str) -> np.ndarray:
+        """(N, 2) position of ``joint``, mm."""
+        st, p0 = self._joint(joint)
+        out = st.write_point(p0, np.empty((self._n, 2)))
+        return out if self._all_valid else self._mask(out)
+
+    def velocity(self, joint: str) -> np.ndarray:
+        """(N, 2) velocity, mm/s."""
+        if self.order < 1:
+            self._need(1, "velocity")
+        st, p0 = self._joint(joint)
+        if self._quiet or self._is_quiet():
+            return st.write_velocity(p0, np.empty((self._n, 2)))
+        with np.errstate(invalid="ignore", over="ignore"):
+            out = st.write_velocity(p0, np.empty((self._n, 2)))
+        return out if self._all_valid else self._mask(out)
+
+    def acceleration(self, joint: str) -> np.ndarray:
+        """(N, 2) acceleration, mm/s²."""
+        if self.order < 2:
+            self._need(2, "acceleration")
+        st, p0 = self._joint(joint)
+        if self._quiet or self._is_quiet():
+            return st.write_acceleration(p0, np.empty((self._n, 2)))
+        with np.errstate(invalid="ignore", over="ignore"):
+            out = st.write_acceleration(p0, np.empty((self._n, 2)))
+        return out if self._all_valid else self._mask(out)
+
+    def point(self, link: str, xy) -> np.ndarray:
+        """(N, 2) position of the point of ``link`` drawn at ``xy`` (mm)."""
+        return self._mask(_xy2(self._state(link).point_xy(_c(xy)), len(self)))
+
+    def point_velocity(self, link: str, xy) -> np.ndarray:
+        self._need(1, "velocity")
+        st = self._state(link)
+        with np.errstate(invalid="ignore", over="ignore"):
+            return self._mask(_xy2(st.vel_xy(st.arm_xy(_c(xy))), len(self)))
+
+    def point_acceleration(self, link: str, xy) -> np.ndarray:
+        self._need(2, "acceleration")
+        st = self._state(link)
+        with np.errstate(invalid="ignore", over="ignore"):
+            return self._mask(_xy2(st.acc_xy(st.arm_xy(_c(xy))), len(self)))
+
+    # -- links ----------------------------------------------------------------------------
+    def rotation(self, link: str) -> np.ndarray:
+        """(N,) rotation of ``link`` from its drawn pose, rad, unwrapped along the samples."""
+        drv = self.plan.linkage.driver
+        if link == drv.link and not drv.linear:
+            rho = self.input - self.plan.theta0
+        elif link == self.plan.linkage.ground:
+            rho = np.zeros(len(self))
+        else:
+            c, s = self._state(link).cs
+            n = len(self)
+            rho = unwrap_finite(np.arctan2(np.broadcast_to(s, (n,)), np.broadcast_to(c, (n,))))
+        return self._mask(rho)
+
+    def angle(self, link: str) -> np.ndarray:
+        """(N,) angle of the vector from the link's first joint to its second (rad, unwrapped);
+        where those coincide in the drawn pose, the rotation from the drawn pose."""
+        return self.rotation(link) + self.plan.angle0.get(link, 0.0)
+
+    def omega(self, link: str) -> np.ndarray:
+        """(N,) angular velocity, rad/s (CCW positive)."""
+        self._need(1, "omega")
+        return self._mask(np.broadcast_to(np.asarray(self._state(link).omega, dtype=float), (len(self),)).copy())
+
+    def alpha(self, link: str) -> np.ndarray:
+        """(N,) angular acceleration, rad/s²."""
+        self._need(2, "alpha")
+        return self._mask(np.broadcast_to(np.asarray(self._state(link).alpha, dtype=float), (len(self),)).copy())
+
+    # -- groups ---------------------------------------------------------------------------
+    @property
+    def groups(self) -> list[Group]:
+        return [s.group for s in self.plan.steps if s.group.name in self._outs]
+
+    def group_output(self, name: str) -> K.DyadOut:
+        """The kernel output of group ``name`` (states, ``ok``, ``cond``, ``gap``, ``mode``,
+        ``slides``); raises :class:`UnknownIdError` for a group not solved here."""
+        try:
+            return self._outs[name]
+        except KeyError:
+            names = [s.group.name for s in self.plan.steps]
+            if name in names:
+                raise UnknownIdError(f"group {name!r} was not solved (not requested)") from None
+            raise UnknownIdError(f"linkage {self.plan.linkage.id!r} has no group {name!r} "
+                                 f"(groups: {', '.join(names) or 'none'})") from None
+
+    def conditioning(self, group: str) -> np.ndarray:
+        """(N,) |det| of the group's velocity system normalised to [0, 1] (0: toggle)."""
+        return self.group_output(group).cond
+
+    def feasible(self, group: str) -> np.ndarray:
+        return self.group_output(group).ok
+
+    def transmission_angle(self, group: str) -> np.ndarray:
+        """(N,) transmission angle μ of an RRR group, rad in [0, π]: the angle at the inner joint."""
+        self.group_output(group)  # UnknownIdError for a group not solved here
+        g = next(g for g in self.groups if g.name == group)
+        if g.kind is not GroupKind.RRR:
+            raise RequestError(f"transmission angle is defined here for RRR groups; {group} is {g.kind}")
+        L = self.position(g.inner)
+        a = self.position(g.outer_i) - L
+        b = self.position(g.outer_j) - L
+        return np.abs(np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], (a * b).sum(axis=1)))
+
+    def residual(self) -> float:
+        """Max loop-closure residual, mm: each joint computed from every link carrying it agrees,
+        and every link stays rigid.
+
+        For an R joint, the distance between its positions carried by each solved link; for a P
+        joint, the distance of one link's axis point from the other link's axis line; for a link,
+        how far its joints move from their drawn distances to its anchor (|rotation| ≠ 1). The
+        last catches a group that puts a shared joint in the same wrong place for both links.
+        """
+        link = self.plan.linkage
+        worst = 0.0
+        with np.errstate(invalid="ignore"):
+            for k, st in self._states.items():
+                reach = max((abs(_c(link.joint(j).at) - st.a0) for j in link.link(k).joints), default=0.0)
+                r = np.abs(np.abs(np.broadcast_to(st.rot, (len(self),))) - 1.0) * reach
+                worst = max(worst, float(np.nanmax(r[self.valid], initial=0.0)))
+            for j in link.joints:
+                carriers = [c for c in link.links_of(j.id) if c in self._states]
+                if len(carriers) < 2:
+                    continue
+                p0 = _c(j.at)
+                pts = [np.broadcast_to(self._states[c].point(p0), (len(self),)) for c in carriers]
+                if j.kind is JointKind.R:
+                    r = max(np.nanmax(np.abs(p - pts[0])[self.valid], initial=0.0) for p in pts[1:])
+                else:
+                    _, u0 = _axis(link, j.id)
+                    u = np.broadcast_to(self._states[carriers[0]].rot, (len(self),)) * u0
+                    r = np.nanmax(np.abs(K.cross(u, pts[1] - pts[0]))[self.valid], initial=0.0)
+                worst = max(worst, float(r))
+        return worst
