@@ -15,6 +15,7 @@ are derived the same way. Infeasible samples (no assembly) come out as NaN, neve
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -221,7 +222,8 @@ def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: co
     D2 = dx * dx + dy * dy
     D = np.sqrt(D2)
     # Heron in factored form: accurate near toggles (paper eq. 1 via atan2/Heron, notes §A)
-    f1, f2, f3 = li + lj - D, D - li + lj, D + li - lj
+    dl = li - lj
+    f1, f2, f3 = li + lj - D, D - dl, D + dl
     prod = (D + (li + lj)) * f1 * f2 * f3
     gap = np.minimum(np.minimum(f1, f2), f3)
     root, ok = _sqrt_ok(prod, gap, tol)
@@ -234,7 +236,7 @@ def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: co
     # L in polar form, |L − M| = li exactly. (x, h) lose accuracy like eps·li²/D where M and H
     # nearly coincide (li ≈ lj), and the Cartesian form then left the loop open by up to li.
     # The common factor 1/(2D) of x and h cancels in q/|q|.
-    x = (li - lj) * (li + lj) + D2
+    x = dl * (li + lj) + D2
     h = root if (flip is None and mode0 == 1.0) else mode * root
     t = li / (np.sqrt(x * x + h * h) * D)
     x = x * t
@@ -264,7 +266,8 @@ def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: co
         si.axy, si.alpha = aM, (qx * rjx + qy * rjy) * inv
         sj.axy, sj.alpha = aH, (rix * qx + riy * qy) * inv
     # L finite: M and L − M are; with H finite both links' states are
-    return DyadOut(si, sj, ok, cond, gap, int(mode0), singular=singular, probe=lx + ly + (hx + hy))
+    probe = lx + ly if isinstance(hx, float) and math.isfinite(hx + hy) else lx + ly + (hx + hy)
+    return DyadOut(si, sj, ok, cond, gap, int(mode0), singular=singular, probe=probe)
 
 
 def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex, l0: complex,
