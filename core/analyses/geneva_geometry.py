@@ -17,7 +17,7 @@ during the engagement: the wheel outline is offset by c_l (exact lines and arcs)
 crank frame at each crank angle, and the farthest point from the relief centre among (a) offset
 vertices inside the disc, (b) the farthest points of offset arcs inside the disc and (c) the
 crossings of the offset outline with the disc circle is found in closed form per angle, then
-maximised over the angle (grid, then zoom). At the engagement ends the offset locking arc lies on
+maximised over the angle (grid, then zoom; geneva_relief.py). At the engagement ends the offset locking arc lies on
 the disc circle; the limit of its crossing there (angle ±φ0 on the disc) is added in closed form.
 """
 from __future__ import annotations
@@ -30,19 +30,15 @@ import numpy as np
 
 from ..errors import GeometryError
 from ..model.geneva import WheelDimensions, require_valid
-from .geneva_contour import Contour, Part, Segments
+from .geneva_contour import Contour, Part
 from .geneva_kinematics import wheel_angle
+from .geneva_relief import INSIDE_TOL, RELIEF_GRID, RELIEF_ZOOM, maximise, relief_values  # noqa: F401 (re-exported)
 
 if TYPE_CHECKING:
     from ..model.geneva import Geneva
 
 #: the relief radius drawn is the exact one rounded up to this step (mm)
 RELIEF_ROUND = 1e-3
-#: crank-angle grid for the relief search, and zoom levels/points around the best maxima
-RELIEF_GRID = 601
-RELIEF_ZOOM = (8, 41)
-#: a point counts as inside the disc only if it is this far inside (relative to A): touching is allowed
-INSIDE_TOL = 1e-12
 #: the default crank bore is this fraction of the locking disc's radius (capped by the relief)
 CRANK_BORE_FRACTION = 0.25
 
@@ -107,152 +103,7 @@ def belt_outline(r1: float, r2: float, length: float) -> Contour:
     return Contour(pts, bul, ("line", "boss", "line", "hub"))
 
 
-# -- the relief ----------------------------------------------------------------------------
-#: segments kept by the reach test: the wheel may turn this much (rad) beyond ±π/z, and a segment is
-#: kept if it comes within R_L + this fraction of A of the crank centre (a conservative test)
-REACH_MARGIN_ANGLE = 0.05
-REACH_MARGIN = 0.01
-
-
-def _reaching(sg: Segments, d: WheelDimensions) -> np.ndarray:
-    """Indices of the segments (wheel frame) that can come within the disc radius R_L of the crank
-    centre for some |φ| ≤ φ0 (a conservative test with margins; the others never yield a candidate).
-
-    In the wheel frame the crank centre lies on the arc of radius A about the wheel centre at
-    angles π + θ(φ), |θ| ≤ π/z; each segment is bounded by a circle (lines and arcs of at most a
-    half turn: the circle on their chord; longer arcs: their own circle)."""
-    a = d.center_distance
-    mid = 0.5 * (sg.p0 + sg.p1)
-    half_chord = 0.5 * np.hypot(*(sg.p1 - sg.p0).T)
-    big = sg.is_arc & (np.abs(sg.theta) > math.pi)
-    bc = np.where(big[:, None], np.nan_to_num(sg.centre), mid)
-    br = np.where(big, np.where(sg.is_arc, sg.radius, 0.0), half_chord)
-    beta = math.pi / d.slots + REACH_MARGIN_ANGLE
-    # distance from the bounding circle's centre to the arc of crank-centre positions
-    off_axis = np.abs(np.arctan2(bc[:, 1], -bc[:, 0]))  # angle from the wheel frame's −x axis
-    ends = a * np.array([[-math.cos(beta), math.sin(beta)], [-math.cos(beta), -math.sin(beta)]])
-    to_end = np.min(np.hypot(bc[:, None, 0] - ends[None, :, 0], bc[:, None, 1] - ends[None, :, 1]), axis=1)
-    dist = np.where(off_axis <= beta, np.abs(np.hypot(bc[:, 0], bc[:, 1]) - a), to_end)
-    return np.nonzero(dist - br <= d.lock_disc_radius + REACH_MARGIN * a)[0]
-
-
-class _ReliefFunction:
-    """V(φ) of one outline (see :func:`relief_values`), with the segments that can reach the disc
-    picked and split into lines and arcs once."""
-
-    def __init__(self, outline: Contour, d: WheelDimensions) -> None:
-        sg = outline.segments()
-        keep = _reaching(sg, d)
-        self.d = d
-        self.empty = keep.size == 0
-        self.p0 = sg.p0[keep]
-        ln = ~sg.is_arc[keep]
-        self.ln = np.nonzero(ln)[0]
-        self.p1 = sg.p1[keep][ln]
-        arc = keep[sg.is_arc[keep]]
-        self.n_arc = arc.size
-        self.centre = sg.centre[arc]
-        self.rad = sg.radius[arc][None, :]
-        self.a0 = sg.a0[arc][None, :]
-        self.sense = np.where(sg.theta[arc] > 0, 1.0, -1.0)[None, :]
-        self.sweep = np.abs(sg.theta[arc])[None, :] + 1e-12
-
-    def __call__(self, phi: np.ndarray) -> np.ndarray:
-        d = self.d
-        a = d.center_distance
-        tol = INSIDE_TOL * a
-        # the disc shrunk by ``tol``: an outline that only touches the disc (c_l reached exactly, as
-        # in the dwell) yields no candidate, one that enters it by more than ``tol`` does
-        rl = d.lock_disc_radius - tol
-        phi = np.asarray(phi, float)
-        if self.empty:
-            return np.full(phi.shape, -np.inf)
-        rot = -phi - wheel_angle(phi, d.lam)  # wheel frame -> crank frame
-        cr, sr = np.cos(rot)[:, None], np.sin(rot)[:, None]
-        tx, ty = (a * np.cos(phi))[:, None], (-a * np.sin(phi))[:, None]
-
-        def move(p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-            return cr * p[:, 0] - sr * p[:, 1] + tx, sr * p[:, 0] + cr * p[:, 1] + ty
-
-        def on_arc(ang: np.ndarray) -> np.ndarray:  # the angle lies on the arc's sweep
-            return np.mod(self.sense * (ang - a0), 2 * math.pi) <= self.sweep
-
-        # (a) vertices inside the disc
-        x0, y0 = move(self.p0)
-        r0 = np.hypot(x0, y0)
-        best = np.where(r0 <= rl, np.hypot(x0 - a, y0), -np.inf).max(axis=1)
-        if self.ln.size:  # lines: crossings with the disc circle
-            x1, y1 = move(self.p1)
-            x0l, y0l = x0[:, self.ln], y0[:, self.ln]
-            dx, dy = x1 - x0l, y1 - y0l
-            qa = dx * dx + dy * dy
-            qb = 2 * (x0l * dx + y0l * dy)
-            qc = r0[:, self.ln] ** 2 - rl * rl
-            disc = qb * qb - 4 * qa * qc
-            # transversal crossings only: the line passes at least ``tol`` inside the disc circle
-            gap = rl - np.abs(x0l * dy - y0l * dx) / np.sqrt(qa)
-            root = np.sqrt(np.where((disc >= 0) & (gap > tol), disc, np.nan))
-            for sgn in (-1.0, 1.0):
-                t = (-qb + sgn * root) / (2 * qa)
-                xs, ys = x0l + t * dx, y0l + t * dy
-                best = np.maximum(best, np.where((t >= 0) & (t <= 1), np.hypot(xs - a, ys), -np.inf).max(axis=1))
-        if self.n_arc:
-            cx, cy = move(self.centre)
-            rad = self.rad
-            a0 = self.a0 + rot[:, None]
-            # (b) the farthest point of each arc's circle from (A, 0), if on the arc and inside the disc
-            dq = np.hypot(cx - a, cy)
-            ang = np.arctan2(cy, cx - a)
-            fx, fy = cx + rad * np.cos(ang), cy + rad * np.sin(ang)
-            ok = on_arc(ang) & (np.hypot(fx, fy) <= rl)
-            best = np.maximum(best, np.where(ok, dq + rad, -np.inf).max(axis=1))
-            # (c) crossings of each arc with the disc circle
-            dc = np.hypot(cx, cy)
-            # transversal crossings only: the circles overlap by more than ``tol`` both ways
-            good = (dc - np.abs(rad - rl) > tol) & (rad + rl - dc > tol)
-            safe = np.where(good, dc, 1.0)
-            along = (rl * rl - rad * rad + dc * dc) / (2 * safe)
-            h2 = rl * rl - along * along
-            h = np.sqrt(np.where(good & (h2 >= 0), h2, np.nan))
-            ux, uy = cx / safe, cy / safe
-            for sgn in (-1.0, 1.0):
-                xs, ys = along * ux - sgn * h * uy, along * uy + sgn * h * ux
-                ok = on_arc(np.arctan2(ys - cy, xs - cx))
-                best = np.maximum(best, np.where(ok, np.hypot(xs - a, ys), -np.inf).max(axis=1))
-        return best
-
-
-def relief_values(phi: np.ndarray, offset: Contour, d: WheelDimensions) -> np.ndarray:
-    """V(φ): farthest distance (mm) from the relief centre (A, 0) of any point of the disc
-    (radius R_L) covered by the offset wheel at crank angles ``phi`` (rad, shape (N,)); −inf where
-    the offset wheel does not reach the disc. Closed form per angle (see the module docstring);
-    only the segments that can reach the disc are evaluated."""
-    return _ReliefFunction(offset, d)(phi)
-
-
-def _maximise(fun, lo: float, hi: float) -> tuple[float, float]:
-    """(max, argmax) of a 1-D function on [lo, hi]: grid, then zoom around the 3 best local maxima
-    (all candidates evaluated in one call of ``fun`` per zoom level; the first best one wins)."""
-    x = np.linspace(lo, hi, RELIEF_GRID)
-    v = fun(x)
-    if not np.isfinite(v).any():
-        return -math.inf, math.nan
-    vv = np.where(np.isfinite(v), v, -np.inf)
-    peak = np.r_[True, vv[1:] >= vv[:-1]] & np.r_[vv[:-1] >= vv[1:], True]
-    cands = np.nonzero(peak & np.isfinite(vv))[0]
-    cands = cands[np.argsort(vv[cands])[::-1][:3]]
-    rows = np.arange(cands.size)
-    xc, half = x[cands], 2 * (hi - lo) / (RELIEF_GRID - 1)
-    for _ in range(RELIEF_ZOOM[0]):
-        xs = np.clip(np.linspace(xc - half, xc + half, RELIEF_ZOOM[1], axis=1), lo, hi)  # (candidates, points)
-        vs = fun(xs.ravel()).reshape(xs.shape)
-        j = np.argmax(vs, axis=1)
-        xc, half = xs[rows, j], half * 4.0 / (RELIEF_ZOOM[1] - 1)
-    top = vs[rows, j]
-    k = int(np.argmax(top))
-    return (float(top[k]), float(xc[k])) if top[k] > -math.inf else (-math.inf, math.nan)
-
-
+# -- the relief (the search: geneva_relief.py) ------------------------------------------------
 @dataclass(frozen=True)
 class Relief:
     """Relief radii about the point at distance A on the crank arm (mm): ``exact`` clears the wheel
@@ -274,8 +125,7 @@ def relief(d: WheelDimensions, clearance_lock: float) -> Relief:
     a, rl = d.center_distance, d.lock_disc_radius
     lim = math.sqrt(rl * rl + a * a - 2 * a * rl * math.cos(d.phi0))
     off = outline.offset(clearance_lock) if clearance_lock > 0 else outline
-    v_c, x_c = _maximise(_ReliefFunction(off, d), -d.phi0, d.phi0)
-    v_t, _ = _maximise(_ReliefFunction(outline, d), -d.phi0, d.phi0)
+    (v_c, x_c), (v_t, _) = maximise([off, outline], d)
     exact = max(v_c, lim)
     return Relief(exact=exact, phi_exact=x_c if v_c >= lim else d.phi0, touch=v_t,
                   classical=d.outer_radius, limit_end=lim,

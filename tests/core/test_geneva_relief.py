@@ -15,8 +15,9 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 from geneva_relief_reference import relief_old, relief_values_old
-from mechsketch.core.analyses.geneva_geometry import _reaching, relief, relief_values, wheel_outline
-from mechsketch.core.model.geneva import Clearances, Drawing, Geneva, WheelDimensions, parse
+from mechsketch.core.analyses.geneva_geometry import relief, relief_values, wheel_outline
+from mechsketch.core.analyses.geneva_relief import bounding_circles, reaching
+from mechsketch.core.model.geneva import Clearances, Geneva, WheelDimensions, parse
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "resources" / "examples"
 
@@ -96,19 +97,23 @@ def _dense_points(sg, k: int, step: float) -> np.ndarray:
 
 @pytest.mark.parametrize("z,rp", [(3, 2.0), (3, 12.0), (6, 8.0), (12, 1.0), (12, 5.0), (24, 2.0)])
 def test_left_out_segments_never_reach_the_disc(z, rp):
+    """Over the whole engagement, the grid's windows and small windows like the zoom's."""
     el = Geneva("g", z, 100.0, rp)
     d = el.dimensions()
     sg = wheel_outline(d).offset(el.clearance.lock).segments()
-    kept = set(_reaching(sg, d).tolist())
-    left = [k for k in range(len(sg.theta)) if k not in kept]
-    assert len(left) >= len(sg.theta) // 4  # the test prunes something (the least at z = 3)
-    # the crank centre in the wheel frame: distance A at angle π + θ(φ), |φ| ≤ φ0
-    phis = np.linspace(-d.phi0, d.phi0, 2001)
-    th = math.pi + np.arctan2(d.lam * np.sin(phis), 1 - d.lam * np.cos(phis))
-    o1 = d.center_distance * np.c_[np.cos(th), np.sin(th)]
-    gap = math.inf
-    for k in left:
-        p = _dense_points(sg, k, 0.05)
-        dist = np.hypot(p[:, None, 0] - o1[None, :, 0], p[:, None, 1] - o1[None, :, 1])
-        gap = min(gap, dist.min() - d.lock_disc_radius)
-    assert gap > 0.0  # every left-out point stays outside the disc at every crank angle
+    edges = np.linspace(-d.phi0, d.phi0, 9)
+    small = np.linspace(-d.phi0, d.phi0 - 0.03, 7)
+    lo = np.r_[-d.phi0, edges[:-1], small]
+    hi = np.r_[d.phi0, edges[1:], small + 0.03]
+    keep = reaching(*bounding_circles(sg), d, lo, hi)
+    assert (~keep[0]).sum() >= len(sg.theta) // 4  # the whole engagement leaves out something (least at z = 3)
+    assert (~keep[1:]).sum(axis=1).min() > (~keep[0]).sum()  # each window more
+    for w in range(len(lo)):
+        # the crank centre in the wheel frame: distance A at angle π + θ(φ)
+        phis = np.linspace(lo[w], hi[w], 301)
+        th = math.pi + np.arctan2(d.lam * np.sin(phis), 1 - d.lam * np.cos(phis))
+        o1 = d.center_distance * np.c_[np.cos(th), np.sin(th)]
+        for k in np.nonzero(~keep[w])[0]:
+            p = _dense_points(sg, k, 0.1)
+            dist = np.hypot(p[:, None, 0] - o1[None, :, 0], p[:, None, 1] - o1[None, :, 1])
+            assert dist.min() > d.lock_disc_radius, (w, k)  # outside the disc at every crank angle
