@@ -238,8 +238,7 @@ class LinkState:
         pts = self._points
         e = None if pts is None else pts.get(p0)
         if e is not None and len(e) > 1:
-            out[:, 0], out[:, 1] = e[1]
-            return out
+            return _fill(out, *e[1])
         ax, ay = self.arm_xy(p0)
         x, y = self._A_xy or self.xy
         np.add(x, ax, out=out[:, 0])
@@ -251,18 +250,16 @@ class LinkState:
         vx, vy = self._vA_xy or self.vxy
         w = self.omega
         ax, ay = self.arm_xy(p0)
-        o0, o1 = out[:, 0], out[:, 1]
-        if isinstance(ax, float) and isinstance(ay, float) and ax == 0.0 and ay == 0.0:
-            out[:, 0], out[:, 1] = vx, vy           # the anchor
-            return out
+        if _zero((ax, ay)):                          # the anchor
+            return _fill(out, vx, vy)
         if isinstance(w, float):
             if w == 0.0:
-                out[:, 0], out[:, 1] = vx, vy
+                return _fill(out, vx, vy)
+            if _zero((vx, vy)):
+                np.multiply(-w, ay, out=out[:, 0])
+                np.multiply(w, ax, out=out[:, 1])
                 return out
-            if isinstance(vx, float) and isinstance(vy, float) and vx == 0.0 and vy == 0.0:
-                np.multiply(-w, ay, out=o0)
-                np.multiply(w, ax, out=o1)
-                return out
+        o0, o1 = out[:, 0], out[:, 1]
         np.multiply(w, ay, out=o0)
         np.subtract(vx, o0, out=o0)
         np.multiply(w, ax, out=o1)
@@ -274,18 +271,16 @@ class LinkState:
         gx, gy = self._aA_xy or self.axy
         w, al = self.omega, self.alpha
         ax, ay = self.arm_xy(p0)
+        if _zero((ax, ay)):                          # the anchor
+            return _fill(out, gx, gy)
         o0, o1 = out[:, 0], out[:, 1]
-        if isinstance(ax, float) and isinstance(ay, float) and ax == 0.0 and ay == 0.0:
-            out[:, 0], out[:, 1] = gx, gy           # the anchor
-            return out
         if isinstance(al, float) and al == 0.0:
             if isinstance(w, float) and w == 0.0:
-                out[:, 0], out[:, 1] = gx, gy
-                return out
+                return _fill(out, gx, gy)
             w2 = -(w * w)
             np.multiply(w2, ax, out=o0)
             np.multiply(w2, ay, out=o1)
-            if not (isinstance(gx, float) and isinstance(gy, float) and gx == 0.0 and gy == 0.0):
+            if not _zero((gx, gy)):
                 np.add(gx, o0, out=o0)
                 np.add(gy, o1, out=o1)
             return out
@@ -316,6 +311,19 @@ class LinkState:
     def acceleration(self, p0: complex, at: Arr | None = None) -> Arr:
         arm = self.arm_xy(p0) if at is None else split(at - self.A)
         return to_complex(*self.acc_xy(arm))
+
+
+def _fill(out: Arr, x, y) -> Arr:
+    """Write x and y (float (N,) arrays or scalars) into the columns of ``out`` (N, 2)."""
+    if isinstance(x, float) and isinstance(y, float):
+        if x == y:
+            out.fill(x)
+        else:
+            out[:] = (x, y)
+    else:
+        out[:, 0] = x
+        out[:, 1] = y
+    return out
 
 
 def _zero(p: Pair | None) -> bool:
