@@ -9,20 +9,35 @@ Gauss–Legendre rule with 400 nodes on each smooth piece; a second Gauss rule (
 the analysis reports) is shown beside it. With matplotlib installed, a PNG of the error curve is
 written to benchmarks/out/.
 
-Run: ``.venv/bin/python benchmarks/bench_geneva.py``
+Then the relief search alone (issue 14): CPU time of the search now (only the segments that can
+reach the disc, windows of both outlines in one call; geneva_relief.py) against the first version
+(every segment, one candidate after another; tests/core/geneva_relief_reference.py), interleaved,
+best of 15, for z = 3 … 24; the difference of the exact and touch radii from the first version's,
+whether the drawn radius is the same, and the error of both against a dense reference (V on
+20,001 angles, then golden-section search on the 5 best local maxima to 1e-15 rad).
+
+Run: ``.venv/bin/python benchmarks/bench_geneva.py [--relief-only]``
 """
 from __future__ import annotations
 
 import math
+import os
+import sys
 import time
 from pathlib import Path
+
+import numpy as np
 
 from mechsketch.core.analyses.geneva_clearance import check_clearances
 from mechsketch.core.analyses.geneva_contact import contact
 from mechsketch.core.analyses.geneva_contact import slip_path_gauss
 from mechsketch.core.analyses.geneva_geometry import geometry as drive_geometry
 from mechsketch.core.analyses.geneva_kinematics import kinematics
+from mechsketch.core.analyses.geneva_geometry import relief, wheel_outline
 from mechsketch.core.model.geneva import ContactModel, Drawing, Geneva, Load
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "core"))
+from geneva_relief_reference import relief_old, relief_values_old  # noqa: E402
 
 RPM10 = 300.0 / math.pi
 
@@ -89,6 +104,54 @@ def geometry() -> None:
               f"{t2 - t1:>8.2f} {rep.roller:>11.6f} {rep.disc:>9.6f}")
 
 
+def dense_max(fun, lo: float, hi: float, n: int = 20001, keep: int = 5) -> float:
+    """max of ``fun`` on [lo, hi]: a grid of n angles, then golden-section search on ±1 grid step
+    around the ``keep`` best local maxima, to 1e-15 rad."""
+    x = np.linspace(lo, hi, n)
+    v = fun(x)
+    v = np.where(np.isfinite(v), v, -np.inf)
+    peak = np.r_[True, v[1:] >= v[:-1]] & np.r_[v[:-1] >= v[1:], True] & np.isfinite(v)
+    best = -math.inf
+    g = (math.sqrt(5.0) - 1.0) / 2.0
+    for k in np.nonzero(peak)[0][np.argsort(v[peak])[::-1][:keep]]:
+        a, b = max(lo, x[k] - (hi - lo) / (n - 1)), min(hi, x[k] + (hi - lo) / (n - 1))
+        while b - a > 1e-15:
+            c, d = b - g * (b - a), a + g * (b - a)
+            fc, fd = fun(np.array([c, d]))
+            if fc >= fd:
+                b = d
+            else:
+                a = c
+        best = max(best, v[k], float(fun(np.array([0.5 * (a + b)]))[0]))
+    return best
+
+
+def relief_search() -> None:
+    print(f"\nrelief search alone (CPU ms, best of 15, interleaved; load {os.getloadavg()[0]:.2f}): now against "
+          "the first version;\nrelative error of the exact (c_l = 0.1 mm) and touch radii against the first version "
+          "and against the dense reference (exact = max(search, limit_end))")
+    print(f"{'z':>3} {'r_p':>5} {'first ms':>9} {'now ms':>7} {'exact':>11} {'drawn same':>10} {'Δ first':>8} "
+          f"{'Δtouch first':>12} {'first-dense':>11} {'now-dense':>9} {'touch now-dense':>15}")
+    for z, rp in ((3, 8.0), (4, 8.0), (6, 8.0), (8, 8.0), (12, 2.0), (24, 1.0)):
+        d = Geneva("g", z, 100.0, rp).dimensions()
+        t_old = t_new = math.inf
+        for _ in range(15):
+            t0 = time.thread_time()
+            old = relief_old(d, 0.1)
+            t1 = time.thread_time()
+            new = relief(d, 0.1)
+            t2 = time.thread_time()
+            t_old, t_new = min(t_old, t1 - t0), min(t_new, t2 - t1)
+        off = wheel_outline(d).offset(0.1)
+        ref = max(dense_max(lambda p: relief_values_old(p, off, d), -d.phi0, d.phi0), old.limit_end)
+        outline = wheel_outline(d)
+        ref_t = dense_max(lambda p: relief_values_old(p, outline, d), -d.phi0, d.phi0)
+        print(f"{z:>3} {rp:>5.1f} {t_old * 1e3:>9.2f} {t_new * 1e3:>7.2f} {new.exact:>11.6f} "
+              f"{str(new.drawn == old.drawn):>10} {abs(new.exact - old.exact) / old.exact:>8.1e} "
+              f"{abs(new.touch - old.touch) / old.touch:>12.1e} {(old.exact - ref) / ref:>11.1e} "
+              f"{(new.exact - ref) / ref:>9.1e} {(new.touch - ref_t) / ref_t:>15.1e}")
+
+
 def plot(curves) -> None:
     try:
         import matplotlib
@@ -113,7 +176,11 @@ def plot(curves) -> None:
 
 
 if __name__ == "__main__":
+    if "--relief-only" in sys.argv:
+        relief_search()
+        sys.exit()
     timing()
     curves = convergence()
     geometry()
+    relief_search()
     plot(curves)
