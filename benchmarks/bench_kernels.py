@@ -29,7 +29,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import os
 import statistics
 import subprocess
@@ -241,8 +240,7 @@ def main(argv=None) -> int:
         print(json.dumps(child(mode, name, int(N), int(runs))))
         return 0
     Ns = [int(x) for x in a.Ns.split(",")]
-    import numpy
-    print(f"# bench_kernels  {time.strftime('%Y-%m-%d %H:%M:%S UTC', time.gmtime())}  numpy {numpy.__version__}  "
+    print(f"# bench_kernels  {time.strftime('%Y-%m-%d %H:%M:%S UTC', time.gmtime())}  numpy {np.__version__}  "
           f"load average {loadavg()}\n")
     print("µs per sample, thread CPU time, warm, in this process (allocator not tuned); "
           "errors against the 50-digit reference\n")
