@@ -25,7 +25,6 @@ import numpy as np
 
 from ..model.drivers import DriverKind
 from ..model.linkage import JointKind, Linkage
-from ..solver.branches import golden_min
 from ..solver.motion_law import at_times
 from ..solver.plan import Plan, Solution
 from ..solver.structure import Group, GroupKind
@@ -187,36 +186,115 @@ class OutputMotion:
                 f"(out {self.t_out:.6g} s, back {self.t_back:.6g} s)")
 
 
+def _golden_min_all(f, a: np.ndarray, b: np.ndarray, steps: int = GOLDEN) -> tuple[np.ndarray, np.ndarray]:
+    """Golden-section searches for the minima of m unimodal functions at once, on brackets
+    [a, b] (shape (m,)): ``f`` maps (m,) points to the m functions' values there, one call per
+    step for all searches. The same iterates, step for step, as
+    :func:`~mechsketch.core.solver.branches.golden_min` on each search alone: (x, f(x)), (m,)."""
+    g = (math.sqrt(5.0) - 1.0) / 2.0
+    a, b = np.array(a, dtype=float), np.array(b, dtype=float)
+    c, d = b - g * (b - a), a + g * (b - a)
+    fc, fd = f(c), f(d)
+    for _ in range(steps):
+        left = fc < fd                   # NaN compares False: the right branch, as golden_min
+        a = np.where(left, a, c)
+        b = np.where(left, d, b)
+        x = np.where(left, b - g * (b - a), a + g * (b - a))
+        fx = f(x)
+        c, d = np.where(left, x, d), np.where(left, c, x)
+        fc, fd = np.where(left, fx, fd), np.where(left, fc, fx)
+    x = 0.5 * (a + b)
+    return x, f(x)
+
+
+def _needed_joints(plan: Plan, links: list[str]) -> list[str] | None:
+    """Joints whose solve gives every one of ``links`` and only what they depend on: the inner
+    joint of the group that solves each (None, i.e. every group, when one is not found so)."""
+    joints = []
+    for link in links:
+        k = plan.solved_by.get(link, -1)
+        if k < 0:
+            return None
+        g = plan.steps[k].group
+        if plan.solved_by.get(plan.reporter.get(g.inner, ""), -1) != k:
+            return None
+        joints.append(g.inner)
+    return joints
+
+
+def _values_at(sol: Solution, lk: Linkage, plan: Plan, outs: list[tuple[str, str, str]]) -> np.ndarray:
+    """Output ``i``'s coordinate (as :func:`_value`, but per sample: a rocker's angle is not
+    unwrapped along the samples) at samples 2i and 2i + 1 of ``sol`` (2m samples for m outputs):
+    shape (2m,), rad or mm, NaN where not assembled."""
+    m = len(outs)
+    c_all, s_all, y = np.ones(2 * m), np.zeros(2 * m), np.zeros(2 * m)
+    rocker = np.zeros(2 * m, dtype=bool)
+    angle0 = np.zeros(2 * m)
+    for i, (link, kind, joint) in enumerate(outs):
+        sl = slice(2 * i, 2 * i + 2)
+        if kind == "rocker":
+            c, s = sol.link_state(link).cs
+            c_all[sl] = c[sl] if np.ndim(c) else c
+            s_all[sl] = s[sl] if np.ndim(s) else s
+            rocker[sl] = True
+            angle0[sl] = plan.angle0.get(link, 0.0)
+        else:
+            j = lk.joint(joint)
+            a = math.radians(j.axis_deg or 0.0)
+            y[sl] = sol.point(link, j.at)[sl] @ np.array([math.cos(a), math.sin(a)])
+    y = np.where(rocker, np.arctan2(s_all, c_all), y)
+    y[~np.asarray(sol.valid, dtype=bool)] = np.nan
+    return y + angle0
+
+
 def output_motions(lk: Linkage, plan: Plan, sol: Solution) -> list[OutputMotion]:
-    """The motion of every output over the cycle swept by ``sol`` (see the module docstring)."""
+    """The motion of every output over the cycle swept by ``sol`` (see the module docstring).
+
+    The extremes of all outputs are refined together: one golden-section search per extreme,
+    all searches advanced a step at a time by one solve of the groups the outputs depend on at
+    every search's new point (2m inputs for m outputs)."""
     drv = lk.driver
     T = drv.period
     n = len(sol)
-    out = []
+    dt = T / n
+    motions: list[OutputMotion | None] = []
+    todo: list[tuple[int, str, str, str]] = []
+    lo: list[float] = []
+    hi: list[float] = []
     for link, kind, joint in _outputs(lk, plan):
         y = _value(sol, lk, link, kind, joint)
         if not np.all(np.isfinite(y)):
-            out.append(OutputMotion(link, kind, joint, note="the cycle stops at assembly limits (no stroke over a "
-                                                            "full cycle)"))
+            motions.append(OutputMotion(link, kind, joint, note="the cycle stops at assembly limits (no stroke "
+                                                                "over a full cycle)"))
             continue
         if kind == "rocker" and abs(y[-1] + (y[1] - y[0]) - y[0]) > math.pi:   # unwrapped: it gained a turn
-            out.append(OutputMotion(link, kind, joint, note=f"turns fully about {joint}"))
+            motions.append(OutputMotion(link, kind, joint, note=f"turns fully about {joint}"))
             continue
-
-        def at(t: float) -> float:
-            if drv.linear or not drv.law.is_constant:
-                q = at_times(drv, plan.theta0, np.array([t])).q
-            else:
-                q = np.array([plan.theta0 + math.copysign(2 * math.pi * t / T, drv.speed_rpm)])
-            return float(_value(plan.evaluate(q, order=0), lk, link, kind, joint)[0])
-
-        dt = T / n
         k_lo, k_hi = int(np.argmin(y)), int(np.argmax(y))
-        t_lo, y_lo = golden_min(at, sol.t[k_lo] - dt, sol.t[k_lo] + dt, GOLDEN)
-        t_hi, neg = golden_min(lambda t: -at(t), sol.t[k_hi] - dt, sol.t[k_hi] + dt, GOLDEN)
-        fwd = (t_hi - t_lo) % T
-        out.append(OutputMotion(link, kind, joint, y_lo, -neg, fwd, T - fwd))
-    return out
+        todo.append((len(motions), link, kind, joint))
+        motions.append(None)
+        lo += [sol.t[k_lo] - dt, sol.t[k_hi] - dt]     # search 2i: output i's least value; 2i + 1: its greatest
+        hi += [sol.t[k_lo] + dt, sol.t[k_hi] + dt]
+    if todo:
+        outs = [(link, kind, joint) for _, link, kind, joint in todo]
+        joints = _needed_joints(plan, [link for link, _, _ in outs])
+        sign = np.tile([1.0, -1.0], len(outs))   # the greatest value is the least of its negative
+
+        def f(t: np.ndarray) -> np.ndarray:
+            if drv.linear or not drv.law.is_constant:
+                q = at_times(drv, plan.theta0, t).q
+            else:
+                q = plan.theta0 + np.copysign(2 * math.pi * t / T, drv.speed_rpm)
+            return sign * _values_at(plan.evaluate(q, order=0, joints=joints), lk, plan, outs)
+
+        t_ext, f_ext = _golden_min_all(f, np.array(lo), np.array(hi))
+        for i, (pos, link, kind, joint) in enumerate(todo):
+            t_lo, y_lo, t_hi, neg = t_ext[2 * i], f_ext[2 * i], t_ext[2 * i + 1], f_ext[2 * i + 1]
+            fwd = (t_hi - t_lo) % T
+            motions[pos] = OutputMotion(link, kind, joint, float(y_lo), float(-neg), float(fwd), float(T - fwd))
+    return [m for m in motions if m is not None]
+
+
 
 
 def classification(lk: Linkage, plan: Plan, sol: Solution | None) -> list[str]:
