@@ -22,6 +22,11 @@ viewport, split into
 - pending events: ``processEvents()`` after the paint, what the event loop runs before the next
   move (panels redrawn a few times a second during a drag, see ``gui/panels/lazy.py``);
 
+and the release (mouse release -> diagnostics panel refreshed and pending events run, waited on
+that condition), split into the output classification (``classify.output_motions``: the outputs'
+strokes and time ratios), the rest of the diagnostics and the solve; ``--classify-reference``
+times the release with the classification as it was before issue 14 (tests/core/classify_reference.py),
+
 with the CPU time the GUI thread spent per step (``time.thread_time``), which stays meaningful
 when other processes share the machine (wall-clock times then grow with the load average, shown
 too). Beside the speed it prints the error: the solution the app shows at the last move, and
@@ -31,7 +36,7 @@ joint and sample, mm; 0 means bit for bit), and whether the branch offsets match
 Run::
 
     QT_QPA_PLATFORM=offscreen python benchmarks/bench_gui_drag.py [--cases sixbar chain16 chain32]
-        [--samples 3600] [--moves 300] [--hide-diagnostics] [--json out.json]
+        [--samples 3600] [--moves 300] [--hide-diagnostics] [--classify-reference] [--json out.json]
 """
 from __future__ import annotations
 
@@ -57,6 +62,7 @@ from PySide6.QtTest import QTest  # noqa: E402
 
 from chains import dyad_chain  # noqa: E402
 from mechsketch.core import Scene, load_scene  # noqa: E402
+from mechsketch.core.analyses import classify as classify_mod  # noqa: E402
 from mechsketch.core.solver import plan as plan_mod  # noqa: E402
 from mechsketch.core.solver.plan import compile_plan  # noqa: E402
 from mechsketch.core.workspace import results as results_mod  # noqa: E402
@@ -191,7 +197,21 @@ def run(case: str, samples: int, moves: int, size: tuple[int, int], hide_diagnos
     full = fresh.sweep(samples=samples, order=2)
     err_drag = max_position_error(shown.solution, full, lk.joint_ids)
     br_drag = branches_equal(shown.plan.branch_points(), fresh.branch_points())
+    # the release: mouse release -> the diagnostics panel (deferred during the drag) redrawn
+    panel = win.diagnostics
+    stale_before = bool(getattr(panel, "_stale", False))
+    timers.reset()
+    c0 = time.thread_time()
+    t0 = time.perf_counter()
     QTest.mouseRelease(vp, Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier, at(p))
+    while diag_shown and panel._stale and time.perf_counter() - t0 < 20.0:
+        app.processEvents()
+    app.processEvents()
+    t1 = time.perf_counter()
+    c1 = time.thread_time()
+    release = {"wall": (t1 - t0) * 1e3, "cpu": (c1 - c0) * 1e3,
+               **{key: timers.acc.get(key, 0.0) * 1e3 for key in ("classify", "diagnose", "solve")},
+               "panel_refreshed": diag_shown and stale_before and not panel._stale}
     released = ctl.result(eid)
     ws = Workspace(ctl.scene)
     ref = ws.result(eid)
@@ -212,7 +232,7 @@ def run(case: str, samples: int, moves: int, size: tuple[int, int], hide_diagnos
         "moves_without_change": unchanged, "undo_commands_after_release": n_cmd,
         **{f"{key}_ms": stats(v) for key, v in cols.items()},
         "error_drag_mm": err_drag, "error_release_mm": err_release, "branches_equal_fresh": br_drag,
-        "summary_equal_fresh_after_release": diag_equal,
+        "summary_equal_fresh_after_release": diag_equal, "release_ms": release,
         "target_ms": TARGET_MS.get(case, 16.0),
         "load_average": os.getloadavg()[0] if hasattr(os, "getloadavg") else None, "cpus": os.cpu_count(),
         "meets_target": statistics.median(cols["total"]) <= TARGET_MS.get(case, 16.0),
@@ -226,12 +246,18 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--moves", type=int, default=200)
     ap.add_argument("--size", type=int, nargs=2, default=(1400, 900), help="main window, px")
     ap.add_argument("--hide-diagnostics", action="store_true", help="close the diagnostics dock first")
+    ap.add_argument("--classify-reference", action="store_true",
+                    help="the outputs' classification as before issue 14 (one solve per golden step and search)")
     ap.add_argument("--json", help="also write the reports here")
     args = ap.parse_args(argv)
+    if args.classify_reference:
+        from classify_reference import output_motions_reference
+        classify_mod.output_motions = output_motions_reference
     timers = Timers()
     timers.wrap(Workspace, "result_of", "solve")
     timers.wrap(plan_mod, "find_branch_points", "branch")
     timers.wrap(results_mod, "diagnose", "diagnose")
+    timers.wrap(classify_mod, "output_motions", "classify")
     reps = []
     for case in args.cases:
         rep = run(case, args.samples, args.moves, tuple(args.size), args.hide_diagnostics, timers)
@@ -249,6 +275,11 @@ def main(argv: list[str] | None = None) -> int:
         print(f"target: median <= {rep['target_ms']:.0f} ms -> {'met' if rep['meets_target'] else 'NOT met'}; "
               f"moves that changed nothing: {rep['moves_without_change']}; "
               f"undo commands after release: {rep['undo_commands_after_release']}")
+        r = rep["release_ms"]
+        print(f"release -> diagnostics panel redrawn: {r['wall']:.1f} ms wall, {r['cpu']:.1f} ms GUI-thread CPU; "
+              f"classification {r['classify']:.1f} ms "
+              f"({'before issue 14' if args.classify_reference else 'vectorised'}), diagnose() {r['diagnose']:.1f} ms, "
+              f"solve {r['solve']:.1f} ms; panel refreshed: {r['panel_refreshed']}")
         print(f"error: drag vs fresh full solve max |dpos| {rep['error_drag_mm']:.3g} mm "
               f"(branch offsets equal: {rep['branches_equal_fresh']}); after release {rep['error_release_mm']:.3g} mm "
               f"(summary equal to a fresh workspace's: {rep['summary_equal_fresh_after_release']}); "
