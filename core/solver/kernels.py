@@ -129,6 +129,14 @@ def _full(v, shape):
     return v
 
 
+def _pair(x, y, shape) -> tuple:
+    """(x, y) with at least one component of ``shape``: a constant component of a vector that
+    varies stays a scalar (a guide along an axis), a constant vector becomes arrays."""
+    if isinstance(x, np.ndarray) and x.ndim or isinstance(y, np.ndarray) and y.ndim:
+        return x, y
+    return _full(x, shape), _full(y, shape)
+
+
 def _sc(a, x):
     """a·x, without the pass for a scalar ``a`` of 1, −1 or 0 (a guide along an axis; 0 gives the
     scalar 0.0, which :func:`_add` and :func:`_sub` then skip)."""
@@ -177,14 +185,14 @@ def _slider(g: LinkState, s0: complex, u0: complex, s: Arr, sd: Arr | None, sdd:
         guide = (g.arm_xy(s0), g.point_xy(s0), g.rotate(u0))
     arm, (zx, zy), (ux, uy) = guide
     shape = np.shape(s)
-    st = LinkState.real(s0, (_full(_add(zx, _sc(ux, s)), shape), _full(_add(zy, _sc(uy, s)), shape)), None)
+    st = LinkState.real(s0, _pair(_add(zx, _sc(ux, s)), _add(zy, _sc(uy, s)), shape), None)
     st.share_rotation(g)
     if still is None:
         still = g.still()
     if order >= 1:
         vzx, vzy = g.vel_xy(arm)
         if still:
-            st.vxy = (_full(_add(vzx, _sc(ux, sd)), shape), _full(_add(vzy, _sc(uy, sd)), shape))
+            st.vxy = _pair(_add(vzx, _sc(ux, sd)), _add(vzy, _sc(uy, sd)), shape)
         else:
             ws = g.omega * s
             st.vxy = (_sub(_add(vzx, _sc(ux, sd)), _sc(uy, ws)), _add(_add(vzy, _sc(uy, sd)), _sc(ux, ws)))
@@ -192,7 +200,7 @@ def _slider(g: LinkState, s0: complex, u0: complex, s: Arr, sd: Arr | None, sdd:
     if order >= 2:
         azx, azy = g.acc_xy(arm)
         if still:
-            st.axy = (_full(_add(azx, _sc(ux, sdd)), shape), _full(_add(azy, _sc(uy, sdd)), shape))
+            st.axy = _pair(_add(azx, _sc(ux, sdd)), _add(azy, _sc(uy, sdd)), shape)
         else:
             w = g.omega
             p = sdd - w * w * s                  # (sdd + 2iω·sd + (iα − ω²)·s)·u = (p + iq)·u
@@ -339,8 +347,11 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
         probe = lx + ly
     else:
         sj = _slider(g, s0, u0, s, sd, sdd, order, (armz, (zx, zy), (ux, uy)), still)
-        sx, sy = sj.xy
-        probe = lx + ly + (sx + sy)
+        if still and isinstance(zx, float) and isinstance(zy, float) and isinstance(ux, float):
+            probe = lx + ly        # a fixed guide: the slider (z + s·u) is finite where L is
+        else:
+            sx, sy = sj.xy
+            probe = lx + ly + (sx + sy)
     return DyadOut(si, sj, ok, cond, gap, int(mode0), (Slide(s, sd, sdd),), probe=probe)
 
 
