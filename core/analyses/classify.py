@@ -186,23 +186,60 @@ class OutputMotion:
                 f"(out {self.t_out:.6g} s, back {self.t_back:.6g} s)")
 
 
-def _golden_min_all(f, a: np.ndarray, b: np.ndarray, steps: int = GOLDEN) -> tuple[np.ndarray, np.ndarray]:
+#: golden-section steps taken per solve: the points of the next LOOKAHEAD steps for every outcome
+#: of their comparisons (2^LOOKAHEAD − 1 per search) are solved at once
+LOOKAHEAD = 4
+
+
+def _advance(a, b, c, d, left, g: float):
+    """One golden-section step from bracket [a, b] with inner points c < d, the smaller value at
+    c where ``left``: the new bracket, inner points and the new point x (whose value is needed)."""
+    a = np.where(left, a, c)
+    b = np.where(left, d, b)
+    x = np.where(left, b - g * (b - a), a + g * (b - a))
+    return a, b, np.where(left, x, d), np.where(left, c, x), x
+
+
+def _golden_min_all(f, a: np.ndarray, b: np.ndarray, steps: int = GOLDEN,
+                    lookahead: int = LOOKAHEAD) -> tuple[np.ndarray, np.ndarray]:
     """Golden-section searches for the minima of m unimodal functions at once, on brackets
-    [a, b] (shape (m,)): ``f`` maps (m,) points to the m functions' values there, one call per
-    step for all searches. The same iterates, step for step, as
-    :func:`~mechsketch.core.solver.branches.golden_min` on each search alone: (x, f(x)), (m,)."""
+    [a, b] (shape (m,)): (x, f(x)), (m,), with the same iterates, bit for bit, as
+    :func:`~mechsketch.core.solver.branches.golden_min` on each search alone.
+
+    ``f`` maps points (k·m,) to the values there, point j belonging to search j mod m. Where a
+    step's new point lies depends only on the comparisons before it, so the points of the next
+    ``lookahead`` steps for every outcome of those comparisons are solved in one call of ``f``
+    and the taken branch is kept: about steps / lookahead calls."""
     g = (math.sqrt(5.0) - 1.0) / 2.0
     a, b = np.array(a, dtype=float), np.array(b, dtype=float)
+    m = a.shape[0]
     c, d = b - g * (b - a), a + g * (b - a)
-    fc, fd = f(c), f(d)
-    for _ in range(steps):
-        left = fc < fd                   # NaN compares False: the right branch, as golden_min
-        a = np.where(left, a, c)
-        b = np.where(left, d, b)
-        x = np.where(left, b - g * (b - a), a + g * (b - a))
-        fx = f(x)
-        c, d = np.where(left, x, d), np.where(left, c, x)
-        fc, fd = np.where(left, fx, fd), np.where(left, fc, fx)
+    fc, fd = np.split(f(np.concatenate((c, d))), 2)
+    ar = np.arange(m)
+    done = 0
+    while done < steps:
+        depth = min(lookahead, steps - done)
+        left0 = fc < fd                  # NaN compares False: the right branch, as golden_min
+        # level l: 2^l nodes, (2^l, m); node 2i is node i's child with a left step, 2i + 1 right
+        levels = [tuple(z[None] for z in _advance(a, b, c, d, left0, g))]
+        for lev in range(1, depth):
+            pa, pb, pc, pd, _ = (np.repeat(z, 2, axis=0) for z in levels[-1])
+            h = np.tile(np.array([True, False]), 2 ** (lev - 1))[:, None]
+            levels.append(_advance(pa, pb, pc, pd, h, g))
+        fx_all = f(np.concatenate([lv[4].ravel() for lv in levels]))
+        node = np.zeros(m, dtype=np.intp)
+        pos = 0
+        for lev, (la, lb, lc, ld, _) in enumerate(levels):
+            if lev:
+                left = fc < fd
+                node = 2 * node + np.where(left, 0, 1)
+            else:
+                left = left0
+            fx = fx_all[pos:pos + la.size].reshape(la.shape)[node, ar]
+            pos += la.size
+            a, b, c, d = la[node, ar], lb[node, ar], lc[node, ar], ld[node, ar]
+            fc, fd = np.where(left, fx, fd), np.where(left, fc, fx)
+        done += depth
     x = 0.5 * (a + b)
     return x, f(x)
 
@@ -224,27 +261,28 @@ def _needed_joints(plan: Plan, links: list[str]) -> list[str] | None:
 
 def _values_at(sol: Solution, lk: Linkage, plan: Plan, outs: list[tuple[str, str, str]]) -> np.ndarray:
     """Output ``i``'s coordinate (as :func:`_value`, but per sample: a rocker's angle is not
-    unwrapped along the samples) at samples 2i and 2i + 1 of ``sol`` (2m samples for m outputs):
-    shape (2m,), rad or mm, NaN where not assembled."""
-    m = len(outs)
-    c_all, s_all, y = np.ones(2 * m), np.zeros(2 * m), np.zeros(2 * m)
-    rocker = np.zeros(2 * m, dtype=bool)
-    angle0 = np.zeros(2 * m)
+    unwrapped along the samples) at samples j of ``sol`` with j mod 2m = 2i or 2i + 1 (k·2m
+    samples for m outputs): shape (k·2m,), rad or mm, NaN where not assembled."""
+    m2 = 2 * len(outs)
+    k = len(sol) // m2
+    c_all, s_all, y = np.ones((k, m2)), np.zeros((k, m2)), np.zeros((k, m2))
+    rocker = np.zeros(m2, dtype=bool)
+    angle0 = np.zeros(m2)
     for i, (link, kind, joint) in enumerate(outs):
         sl = slice(2 * i, 2 * i + 2)
         if kind == "rocker":
             c, s = sol.link_state(link).cs
-            c_all[sl] = c[sl] if np.ndim(c) else c
-            s_all[sl] = s[sl] if np.ndim(s) else s
+            c_all[:, sl] = np.reshape(c, (k, m2))[:, sl] if np.ndim(c) else c
+            s_all[:, sl] = np.reshape(s, (k, m2))[:, sl] if np.ndim(s) else s
             rocker[sl] = True
             angle0[sl] = plan.angle0.get(link, 0.0)
         else:
             j = lk.joint(joint)
             a = math.radians(j.axis_deg or 0.0)
-            y[sl] = sol.point(link, j.at)[sl] @ np.array([math.cos(a), math.sin(a)])
+            y[:, sl] = sol.point(link, j.at).reshape(k, m2, 2)[:, sl] @ np.array([math.cos(a), math.sin(a)])
     y = np.where(rocker, np.arctan2(s_all, c_all), y)
-    y[~np.asarray(sol.valid, dtype=bool)] = np.nan
-    return y + angle0
+    y[~np.asarray(sol.valid, dtype=bool).reshape(k, m2)] = np.nan
+    return (y + angle0).ravel()
 
 
 def output_motions(lk: Linkage, plan: Plan, sol: Solution) -> list[OutputMotion]:
@@ -285,7 +323,8 @@ def output_motions(lk: Linkage, plan: Plan, sol: Solution) -> list[OutputMotion]
                 q = at_times(drv, plan.theta0, t).q
             else:
                 q = plan.theta0 + np.copysign(2 * math.pi * t / T, drv.speed_rpm)
-            return sign * _values_at(plan.evaluate(q, order=0, joints=joints), lk, plan, outs)
+            return np.tile(sign, len(t) // len(sign)) * _values_at(plan.evaluate(q, order=0, joints=joints),
+                                                                   lk, plan, outs)
 
         t_ext, f_ext = _golden_min_all(f, np.array(lo), np.array(hi))
         for i, (pos, link, kind, joint) in enumerate(todo):

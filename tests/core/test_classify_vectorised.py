@@ -36,14 +36,23 @@ def test_every_example_linkage_is_covered():
     assert any(n.startswith("v_engine") for n in names)                                  # sliders
 
 
-def test_the_searches_at_once_take_the_same_steps_as_one_search_at_a_time():
+@pytest.mark.parametrize("lookahead", [1, 2, 3, 4, 7])
+def test_the_searches_at_once_take_the_same_steps_as_one_search_at_a_time(lookahead):
     """Functions with known minima, some searches going left and some right at each step, one
-    returning NaN (golden_min then always keeps the right part): iterates equal bit for bit."""
+    returning NaN (golden_min then always keeps the right part): iterates equal bit for bit, with
+    any number of steps solved per call (7 does not divide the 60 steps)."""
     fs = [lambda x: (x - 0.3) ** 2, lambda x: math.cos(x), lambda x: -math.sin(3 * x) + 0.1 * x,
           lambda x: abs(x - 1.7) ** 1.5, lambda x: math.nan]
     a = np.array([0.0, 2.0, -0.2, 1.0, 0.0])
     b = np.array([1.0, 4.5, 1.3, 2.0, 1.0])
-    x, fx = _golden_min_all(lambda t: np.array([f(float(v)) for f, v in zip(fs, t)]), a, b)
+    m = len(fs)
+    calls = []
+
+    def f(t):
+        calls.append(len(t))
+        return np.array([fs[j % m](float(v)) for j, v in enumerate(t)])
+    x, fx = _golden_min_all(f, a, b, GOLDEN, lookahead)
+    assert len(calls) == 2 + math.ceil(GOLDEN / lookahead)
     for i, f in enumerate(fs):
         xi, fi = golden_min(f, float(a[i]), float(b[i]), GOLDEN)
         assert x[i] == xi and (fx[i] == fi or (math.isnan(fi) and math.isnan(fx[i])))
