@@ -288,9 +288,10 @@ def _values_at(sol: Solution, lk: Linkage, plan: Plan, outs: list[tuple[str, str
 def output_motions(lk: Linkage, plan: Plan, sol: Solution) -> list[OutputMotion]:
     """The motion of every output over the cycle swept by ``sol`` (see the module docstring).
 
-    The extremes of all outputs are refined together: one golden-section search per extreme,
-    all searches advanced a step at a time by one solve of the groups the outputs depend on at
-    every search's new point (2m inputs for m outputs)."""
+    The extremes of all outputs are refined together: one golden-section search per extreme (2m
+    for m outputs), all advanced :data:`LOOKAHEAD` steps per solve of only the groups the outputs
+    depend on (2m·(2^LOOKAHEAD − 1) inputs: :func:`_golden_min_all`), with the same iterates as
+    one search and one input at a time."""
     drv = lk.driver
     T = drv.period
     n = len(sol)
