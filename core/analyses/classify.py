@@ -323,7 +323,7 @@ def output_motions(lk: Linkage, plan: Plan, sol: Solution) -> list[OutputMotion]
             if drv.linear or not drv.law.is_constant:
                 q = at_times(drv, plan.theta0, t).q
             else:
-                q = plan.theta0 + np.copysign(2 * math.pi * t / T, drv.speed_rpm)
+                q = plan.theta0 + math.copysign(2 * math.pi / T, drv.speed_rpm) * t   # t < 0: before the drawn pose
             return np.tile(sign, len(t) // len(sign)) * _values_at(plan.evaluate(q, order=0, joints=joints),
                                                                    lk, plan, outs)
 

@@ -42,7 +42,7 @@ def output_motions_reference(lk: Linkage, plan: Plan, sol: Solution) -> list[Out
             if drv.linear or not drv.law.is_constant:
                 q = at_times(drv, plan.theta0, np.array([t])).q
             else:
-                q = np.array([plan.theta0 + math.copysign(2 * math.pi * t / T, drv.speed_rpm)])
+                q = np.array([plan.theta0 + math.copysign(2 * math.pi / T, drv.speed_rpm) * t])   # fixed as in classify.py: t < 0 was mirrored
             return float(_value(plan.evaluate(q, order=0), lk, link, kind, joint)[0])
 
         dt = T / n
