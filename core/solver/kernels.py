@@ -96,13 +96,25 @@ PARALLEL_COND = 1e-6
 def _sqrt_ok(x: Arr, gap: Arr, tol: float) -> tuple[Arr, Arr]:
     """sqrt(x) where the assembly margin ``gap`` ≥ −tol (x clamped at 0: an exact toggle that
     rounding pushed below zero still assembles); NaN and ok False elsewhere."""
+    root, ok, _ = _root(x, gap, tol)
+    return root, ok
+
+
+def _root(x: Arr, gap: Arr, tol: float) -> tuple[Arr, Arr, bool]:
+    """:func:`_sqrt_ok` and whether every sample has ``gap`` ≥ 0 (then ok is True everywhere).
+
+    ``x`` must be a product of factors that are all ≥ 0 where ``gap`` (their minimum) is: then
+    x ≥ +0 there, and sqrt(x) is bit for bit sqrt(max(x, 0)), without the clamping pass and the
+    masks (one reduction instead; a NaN margin fails it and takes the general path)."""
+    if isinstance(gap, np.ndarray) and gap.ndim and gap.size and gap.min() >= 0.0:
+        return np.sqrt(x), np.ones(gap.shape, dtype=bool), True
     ok = gap >= -tol
     root = np.sqrt(np.maximum(x, 0.0))
     if isinstance(root, np.ndarray) and root.ndim:
         if not ok.all():
             root[~ok] = np.nan
-        return root, ok
-    return np.sqrt(np.where(ok, np.maximum(x, 0.0), np.nan)), ok
+        return root, ok, False
+    return np.sqrt(np.where(ok, np.maximum(x, 0.0), np.nan)), ok, False
 
 
 def crank(pivot: complex, a0_angle: float, inputs: Arr, omega: float | Arr, alpha: float | Arr,
@@ -234,12 +246,14 @@ def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: co
     f1, f2, f3 = li + lj - D, D - dl, D + dl
     prod = (D + (li + lj)) * f1 * f2 * f3
     gap = np.minimum(np.minimum(f1, f2), f3)
-    root, ok = _sqrt_ok(prod, gap, tol)
-    meet = D <= near
+    root, ok, every = _root(prod, gap, tol)
     singular = None                  # nowhere, unless the outer joints meet at some sample
-    if not isinstance(meet, np.ndarray) or meet.ndim == 0 or meet.any():
-        singular = ok & meet
-        ok = ok & ~singular
+    # every f2, f3 ≥ 0: D ≥ |li − lj| at every sample, so |li − lj| > near rules out a meeting
+    if not (every and abs(dl) > near):
+        meet = D <= near
+        if not isinstance(meet, np.ndarray) or meet.ndim == 0 or meet.any():
+            singular = ok & meet
+            ok = ok & ~singular
     # L − M = q·(li/|q|)·(d/D) with q = x + i·h, x = (li² − lj² + D²)/(2D), h = mode·√prod/(2D):
     # L in polar form, |L − M| = li exactly. (x, h) lose accuracy like eps·li²/D where M and H
     # nearly coincide (li ≈ lj), and the Cartesian form then left the loop open by up to li.
@@ -299,7 +313,7 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
     du = _add(_sc(ux, dx), _sc(uy, dy))
     dn = _sub(_sc(ux, dy), _sc(uy, dx))  # signed eccentricity e_s + l_j sin φ_jq − M·n (A1–A3 corrected)
     gap = li - np.abs(dn)
-    root, ok = _sqrt_ok((li - dn) * (li + dn), gap, tol)
+    root, ok, _ = _root((li - dn) * (li + dn), gap, tol)
     s = (root - du) if (flip is None and mode0 == 1.0) else mode * root - du
     rix, riy = _add(dx, _sc(ux, s)), _add(dy, _sc(uy, s))
     si = LinkState.turned(m0, (mx, my), (rix, riy), l0 - m0)
