@@ -343,6 +343,7 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
         aM = m_state.acc_xy(armM)
         wi2 = wi * wi
         qx, qy = aM[0] - wi2 * rix, aM[1] - wi2 * riy
+        aLm = (qx, qy)                                   # a_M − ω_i²·r_i, reused for a_L
         if not still:
             aLx, aLy = g.acc_xy(armL)
             cor = 2.0 * g.omega * sd
@@ -354,9 +355,9 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
         sj.share_rotation(g)
         if order >= 1:   # v_L = v_M + ω_i·J·r_i
             sj.vxy, sj.omega = (vM[0] - wi * riy, vM[1] + wi * rix), g.omega
-        if order >= 2:   # a_L = a_M + α_i·J·r_i − ω_i²·r_i
+        if order >= 2:   # a_L = (a_M − ω_i²·r_i) + α_i·J·r_i
             ai = si.alpha
-            sj.axy = (aM[0] - ai * riy - wi2 * rix, aM[1] + ai * rix - wi2 * riy)
+            sj.axy = (aLm[0] - ai * riy, aLm[1] + ai * rix)
             sj.alpha = g.alpha
         probe = lx + ly
     else:

@@ -215,6 +215,11 @@ class LinkState:
                 return vx, vy
             if isinstance(vx, float) and isinstance(vy, float) and vx == 0.0 and vy == 0.0:
                 return (-w) * ay, w * ax
+        elif isinstance(vx, float) and isinstance(vy, float) and vx == 0.0 and vy == 0.0:
+            x = w * ay                 # 0 − w·ay and 0 + w·ax, exactly, without the passes adding 0
+            if isinstance(x, np.ndarray) and x.ndim:
+                return np.negative(x, out=x), w * ax
+            return -x, w * ax
         return vx - w * ay, vy + w * ax
 
     def acc_xy(self, arm: Pair) -> Pair:
@@ -230,6 +235,16 @@ class LinkState:
                 return w2 * ax, w2 * ay
             return gx + w2 * ax, gy + w2 * ay
         w2 = w * w
+        if isinstance(gx, float) and isinstance(gy, float) and gx == 0.0 and gy == 0.0:
+            if isinstance(w2, np.ndarray) and w2.ndim:   # 0 − w²·ax − α·ay = (−w²)·ax − α·ay, exactly
+                np.negative(w2, out=w2)
+            else:
+                w2 = -w2
+            x = w2 * ax
+            x -= al * ay
+            y = w2 * ay
+            y += al * ax
+            return x, y
         return gx - w2 * ax - al * ay, gy - w2 * ay + al * ax
 
     # -- into (N, 2) arrays (the extraction of joint results: no temporaries copied) ------------
@@ -241,6 +256,8 @@ class LinkState:
             return _fill(out, *e[1])
         ax, ay = self.arm_xy(p0)
         x, y = self._A_xy or self.xy
+        if p0 == self.a0 or _zero((ax, ay)):        # the anchor: a copy, no pass adding zero
+            return _fill(out, x, y)
         np.add(x, ax, out=out[:, 0])
         np.add(y, ay, out=out[:, 1])
         return out
