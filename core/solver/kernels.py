@@ -359,6 +359,9 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
             ai = si.alpha
             sj.axy = (aLm[0] - ai * riy, aLm[1] + ai * rix)
             sj.alpha = g.alpha
+        # L's rates on link i are the slider's anchor rates, the same expressions term by term
+        # (a_L: (a_M − ω_i²·r_i) + α_i·J·r_i as acc_xy orders them): extracted as copies
+        si.set_rates(l0, sj.vxy if order >= 1 else None, sj.axy if order >= 2 else None)
         probe = lx + ly
     else:
         sj = _slider(g, s0, u0, s, sd, sdd, order, (armz, (zx, zy), (ux, uy)), still)

@@ -205,6 +205,14 @@ class LinkState:
             self._points = {}
         self._points[p0] = [arm, at]
 
+    def set_rates(self, p0: complex, vel: Pair | None, acc: Pair | None) -> None:
+        """Record the velocity and acceleration (x, y) of the point drawn at ``p0`` as computed by
+        a kernel (the point must be recorded already, :meth:`set_point`): its extraction copies
+        them. They must equal what :meth:`vel_xy` and :meth:`acc_xy` give at its arm."""
+        e = self._points[p0]
+        del e[2:]
+        e += (vel, acc)
+
     def vel_xy(self, arm: Pair) -> Pair:
         """Velocity (x, y) of the link point at ``arm`` from the anchor: vA + ω·J·arm, mm/s."""
         vx, vy = self._vA_xy or self.vxy
@@ -264,6 +272,11 @@ class LinkState:
 
     def write_velocity(self, p0: complex, out: Arr) -> Arr:
         """Velocity of the point drawn at ``p0`` into ``out`` (N, 2), mm/s (as :meth:`vel_xy`)."""
+        pts = self._points
+        if pts is not None:
+            e = pts.get(p0)
+            if e is not None and len(e) > 2 and e[2] is not None:
+                return _fill(out, *e[2])
         vx, vy = self._vA_xy or self.vxy
         w = self.omega
         ax, ay = self.arm_xy(p0)
@@ -285,6 +298,11 @@ class LinkState:
 
     def write_acceleration(self, p0: complex, out: Arr) -> Arr:
         """Acceleration of the point drawn at ``p0`` into ``out`` (N, 2), mm/s² (as :meth:`acc_xy`)."""
+        pts = self._points
+        if pts is not None:
+            e = pts.get(p0)
+            if e is not None and len(e) > 3 and e[3] is not None:
+                return _fill(out, *e[3])
         gx, gy = self._aA_xy or self.axy
         w, al = self.omega, self.alpha
         ax, ay = self.arm_xy(p0)

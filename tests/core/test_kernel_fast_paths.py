@@ -45,3 +45,23 @@ def test_rrr_meeting_test_kept_when_lengths_are_equal():
     assert out.gap.min() >= 0.0
     assert out.singular is not None and out.singular.tolist() == [False, True, False]
     assert out.ok.tolist() == [True, False, True]
+
+
+def test_rrp_pin_rates_recorded_on_the_rod_equal_the_rods_own_rates():
+    # sixbar_moving_guide: the block's pin E sits on its guide point Q (moving guide), so the rod
+    # records E's velocity and acceleration from the block's; they must be the rod's own, bit for bit
+    from mechsketch.core import load_scene
+    from mechsketch.core.solver.plan import compile_plan
+    from mechsketch.resources import example_path
+
+    lk = load_scene(example_path("sixbar_moving_guide")).elements[0]
+    sol = compile_plan(lk).sweep(240, order=2)
+    rod = sol.link_state("rod2")
+    e0 = complex(*lk.joint("E").at)
+    arm = rod.arm_xy(e0)
+    assert len(rod._points[e0]) == 4             # the shortcut is taken here
+    v, a = rod.vel_xy(arm), rod.acc_xy(arm)      # recomputed from the rod's motion
+    assert sol.valid.all()
+    assert np.array_equal(sol.velocity("E"), np.stack(v, axis=1))
+    assert np.array_equal(sol.acceleration("E"), np.stack(a, axis=1))
+    assert np.array_equal(sol.velocity("Q"), sol.velocity("E"))
