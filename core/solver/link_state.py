@@ -272,15 +272,13 @@ class LinkState:
 
     def write_velocity(self, p0: complex, out: Arr) -> Arr:
         """Velocity of the point drawn at ``p0`` into ``out`` (N, 2), mm/s (as :meth:`vel_xy`)."""
-        pts = self._points
-        if pts is not None:
-            e = pts.get(p0)
-            if e is not None and len(e) > 2 and e[2] is not None:
-                return _fill(out, *e[2])
+        e = self._entry(p0)
+        if len(e) > 2 and e[2] is not None:          # recorded by the kernel
+            return _fill(out, *e[2])
         vx, vy = self._vA_xy or self.vxy
         w = self.omega
-        ax, ay = self.arm_xy(p0)
-        if _zero((ax, ay)):                          # the anchor
+        ax, ay = e[0]
+        if ax.__class__ is float and ay.__class__ is float and ax == 0.0 and ay == 0.0:   # the anchor
             return _fill(out, vx, vy)
         if isinstance(w, float):
             if w == 0.0:
@@ -298,15 +296,13 @@ class LinkState:
 
     def write_acceleration(self, p0: complex, out: Arr) -> Arr:
         """Acceleration of the point drawn at ``p0`` into ``out`` (N, 2), mm/s² (as :meth:`acc_xy`)."""
-        pts = self._points
-        if pts is not None:
-            e = pts.get(p0)
-            if e is not None and len(e) > 3 and e[3] is not None:
-                return _fill(out, *e[3])
+        e = self._entry(p0)
+        if len(e) > 3 and e[3] is not None:          # recorded by the kernel
+            return _fill(out, *e[3])
         gx, gy = self._aA_xy or self.axy
         w, al = self.omega, self.alpha
-        ax, ay = self.arm_xy(p0)
-        if _zero((ax, ay)):                          # the anchor
+        ax, ay = e[0]
+        if ax.__class__ is float and ay.__class__ is float and ax == 0.0 and ay == 0.0:   # the anchor
             return _fill(out, gx, gy)
         o0, o1 = out[:, 0], out[:, 1]
         if isinstance(al, float) and al == 0.0:

@@ -89,6 +89,7 @@ class Solution:
         self._all_valid = bool(valid.all())
         self._quiet: bool | None = None
         self._rates_valid: np.ndarray | None = None
+        self._joints: dict[str, tuple[K.LinkState, complex]] = {}   # joint -> (state, drawn point)
 
     def __len__(self) -> int:
         return self.input.shape[0]
@@ -188,11 +189,15 @@ class Solution:
             raise RequestError(f"{what} needs a solve with order >= {order} (this one has order {self.order})")
 
     def _joint(self, joint: str) -> tuple[K.LinkState, complex]:
+        got = self._joints.get(joint)
+        if got is not None:
+            return got
         e = self.plan.joint_at.get(joint)
         if e is None:
             raise UnknownIdError(f"linkage {self.plan.linkage.id!r} has no joint {joint!r}")
         st = self._states.get(e[0])
-        return (self._state(e[0]) if st is None else st), e[1]
+        got = self._joints[joint] = (self._state(e[0]) if st is None else st), e[1]
+        return got
 
     def link_state(self, link: str) -> K.LinkState:
         """The kernel state of ``link`` (anchor, rotation and their rates: complex/float (N,) or
