@@ -365,6 +365,8 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
         probe = lx + ly
     else:
         sj = _slider(g, s0, u0, s, sd, sdd, order, (armz, (zx, zy), (ux, uy)), still)
+        if still and order >= 1:   # a fixed guide: the slider translates, L moves as its anchor
+            si.set_rates(l0, sj.vxy, sj.axy if order >= 2 else None)    # ṡ·u, s̈·u: copies
         if still and isinstance(zx, float) and isinstance(zy, float) and isinstance(ux, float):
             probe = lx + ly        # a fixed guide: the slider (z + s·u) is finite where L is
         else:

@@ -65,3 +65,25 @@ def test_rrp_pin_rates_recorded_on_the_rod_equal_the_rods_own_rates():
     assert np.array_equal(sol.velocity("E"), np.stack(v, axis=1))
     assert np.array_equal(sol.acceleration("E"), np.stack(a, axis=1))
     assert np.array_equal(sol.velocity("Q"), sol.velocity("E"))
+
+
+def test_rrp_fixed_guide_pin_rates_are_the_sliders_and_agree_with_the_rods():
+    # slider_crank_offset: a fixed guide, so the rod's pin C takes the slider's rates ṡ·u, s̈·u;
+    # the rod's own expressions (v_B + ω·J·r, a_B + (αJ − ω²)·r) agree to rounding
+    from mechsketch.core import load_scene
+    from mechsketch.core.solver.plan import compile_plan
+    from mechsketch.resources import example_path
+
+    lk = load_scene(example_path("slider_crank_offset")).elements[0]
+    sol = compile_plan(lk).sweep(360, order=2)
+    assert sol.valid.all()
+    rod = sol.link_state("rod")
+    c0 = complex(*lk.joint("C").at)
+    arm = rod.arm_xy(c0)
+    assert len(rod._points[c0]) == 4             # the shortcut is taken here
+    v, a = np.stack(rod.vel_xy(arm), axis=1), np.stack(rod.acc_xy(arm), axis=1)
+    V, A = sol.velocity("C"), sol.acceleration("C")
+    assert np.abs(V - v).max() <= 1e-13 * np.abs(v).max()
+    assert np.abs(A - a).max() <= 1e-13 * np.abs(a).max()
+    u = complex(*sol.velocity("S")[1]) / abs(complex(*sol.velocity("S")[1]))
+    assert np.abs(V[:, 0] * u.imag - V[:, 1] * u.real).max() <= 1e-12 * np.abs(v).max()   # along the guide
