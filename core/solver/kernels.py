@@ -282,6 +282,8 @@ def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: co
     if order >= 2:
         aM, aH = m_state.acc_xy(armM), h_state.acc_xy(armH)
         wi2, wj2 = wi * wi, wj * wj
+        si.set_omega2(wi2)
+        sj.set_omega2(wj2)
         qx, qy = _minus(aM, aH)                          # −(eq. 3's right-hand side)
         qx = qx - wi2 * rix + wj2 * rjx
         qy = qy - wi2 * riy + wj2 * rjy
@@ -342,6 +344,7 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
     if order >= 2:
         aM = m_state.acc_xy(armM)
         wi2 = wi * wi
+        si.set_omega2(wi2)
         qx, qy = aM[0] - wi2 * rix, aM[1] - wi2 * riy
         aLm = (qx, qy)                                   # a_M − ω_i²·r_i, reused for a_L
         if not still:

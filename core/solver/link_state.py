@@ -81,7 +81,7 @@ class LinkState:
     ``vxy``, ``axy``. Any point drawn at ``p0`` on the link is ``A + rot·(p0 − a0)``.
     """
 
-    __slots__ = ("a0", "omega", "alpha", "_A", "_A_xy", "_rot", "_rot_xy", "_vA", "_vA_xy",
+    __slots__ = ("a0", "omega", "alpha", "_w2", "_A", "_A_xy", "_rot", "_rot_xy", "_vA", "_vA_xy",
                  "_aA", "_aA_xy", "_points", "_turn")
 
     A, xy = _vec("A", "anchor position, mm")
@@ -122,6 +122,7 @@ class LinkState:
         self._A, self._rot, self._vA, self._aA = A, rot, vA, aA
         self._A_xy = self._rot_xy = self._vA_xy = self._aA_xy = None
         self.omega, self.alpha = omega, alpha
+        self._w2 = None
         self._points = None
 
     @classmethod
@@ -135,6 +136,7 @@ class LinkState:
         st._A = st._rot = st._vA = st._aA = None
         st._A_xy, st._rot_xy, st._vA_xy, st._aA_xy = xy, cs, vxy, axy
         st.omega, st.alpha = omega, alpha
+        st._w2 = None
         st._points = None
         return st
 
@@ -213,6 +215,15 @@ class LinkState:
         del e[2:]
         e += (vel, acc)
 
+    def omega2(self):
+        """ω² (rad²/s²): the kernel's, if it recorded it for this ω (:meth:`set_omega2`)."""
+        c, w = self._w2, self.omega
+        return c[1] if c is not None and c[0] is w else w * w
+
+    def set_omega2(self, w2) -> None:
+        """Record ω·ω as the kernel computed it (for the current ``omega`` only)."""
+        self._w2 = (self.omega, w2)
+
     def vel_xy(self, arm: Pair) -> Pair:
         """Velocity (x, y) of the link point at ``arm`` from the anchor: vA + ω·J·arm, mm/s."""
         vx, vy = self._vA_xy or self.vxy
@@ -242,12 +253,9 @@ class LinkState:
             if isinstance(gx, float) and isinstance(gy, float) and gx == 0.0 and gy == 0.0:
                 return w2 * ax, w2 * ay
             return gx + w2 * ax, gy + w2 * ay
-        w2 = w * w
+        w2 = self.omega2()
         if isinstance(gx, float) and isinstance(gy, float) and gx == 0.0 and gy == 0.0:
-            if isinstance(w2, np.ndarray) and w2.ndim:   # 0 − w²·ax − α·ay = (−w²)·ax − α·ay, exactly
-                np.negative(w2, out=w2)
-            else:
-                w2 = -w2
+            w2 = -w2                   # 0 − w²·ax − α·ay = (−w²)·ax − α·ay, exactly
             x = w2 * ax
             x -= al * ay
             y = w2 * ay
@@ -315,7 +323,7 @@ class LinkState:
                 np.add(gx, o0, out=o0)
                 np.add(gy, o1, out=o1)
             return out
-        w2 = w * w
+        w2 = self.omega2()
         np.multiply(w2, ax, out=o0)
         np.subtract(gx, o0, out=o0)
         np.subtract(o0, al * ay, out=o0)
