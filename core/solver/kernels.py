@@ -82,8 +82,9 @@ class DyadOut:
     mode: int | None = None
     slides: tuple[Slide, ...] = ()
     singular: Arr | None = None
-    #: (N,) finite exactly where both link states are (a sum of the kernel's coordinates), or None
-    probe: Arr | None = None
+    #: (N,) finite exactly where both link states are (a sum of the kernel's coordinates), or None;
+    #: a finite float: the kernel proved both states finite at every sample
+    probe: Arr | float | None = None
 
 
 #: PRP/RPP: below this |sin| between the two slide axes the lines are taken as parallel (not
@@ -290,7 +291,14 @@ def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: co
         si.axy, si.alpha = aM, (qx * rjx + qy * rjy) * inv
         sj.axy, sj.alpha = aH, (rix * qx + riy * qy) * inv
     # L finite: M and L − M are; with H finite both links' states are
-    probe = lx + ly if isinstance(hx, float) and math.isfinite(hx + hy) else lx + ly + (hx + hy)
+    sl = li + lj
+    if (every and isinstance(hx, float) and abs(hx) + abs(hy) < 1e200 and 1e-60 < sl < 1e60
+            and abs(dl) > max(near, 1e-8 * sl)):
+        # every pose finite, provably: D finite (every margin is), so M is; |li − lj| ≤ D ≤ li + lj
+        # keeps x, h, |q|² = (2·D·li)² and t ~ 1/(2D²) far from overflow and underflow
+        probe = 0.0
+    else:
+        probe = lx + ly if isinstance(hx, float) and math.isfinite(hx + hy) else lx + ly + (hx + hy)
     return DyadOut(si, sj, ok, cond, gap, int(mode0), singular=singular, probe=probe)
 
 

@@ -166,7 +166,8 @@ class Plan:
                     (xi, yi), (ci, si), (xj, yj), (cj, sj) = (out.state_i.xy, out.state_i.cs,
                                                               out.state_j.xy, out.state_j.cs)
                     probe = xi + yi + ci + si + xj + yj + cj + sj
-                out.ok = out.ok & np.isfinite(probe)
+                if not (type(probe) is float and math.isfinite(probe)):   # finite float: proved finite
+                    out.ok = out.ok & np.isfinite(probe)
                 states[step.group.link_i] = out.state_i
                 states[step.group.link_j] = out.state_j
                 outs[step.group.name] = out

@@ -28,6 +28,8 @@ def test_rrr_fast_path_equals_general_path_bit_for_bit():
     assert fast.ok.all() and fast.gap.min() > 0.0 and fast.singular is None
     general = _run(np.concatenate([th, [np.nan]]))    # a NaN margin forces the general path
     assert not general.ok[-1]
+    assert fast.probe == 0.0                          # every pose proved finite: no probe pass
+    assert isinstance(general.probe, np.ndarray) and np.isfinite(general.probe[:-1]).all()
     for a, b in zip(_arrays(fast), _arrays(general)):
         a, b = np.broadcast_to(a, th.shape), np.broadcast_to(b, (th.size + 1,))[:-1]
         assert np.array_equal(a, b)                   # the same bits (NaN nowhere here)
@@ -87,3 +89,12 @@ def test_rrp_fixed_guide_pin_rates_are_the_sliders_and_agree_with_the_rods():
     assert np.abs(A - a).max() <= 1e-13 * np.abs(a).max()
     u = complex(*sol.velocity("S")[1]) / abs(complex(*sol.velocity("S")[1]))
     assert np.abs(V[:, 0] * u.imag - V[:, 1] * u.real).max() <= 1e-12 * np.abs(v).max()   # along the guide
+
+
+def test_rrr_probe_kept_where_the_outer_joints_can_meet():
+    # li = lj: the margin alone does not keep M and H apart, so the finiteness probe stays
+    h0 = complex(-20.0, 0.0)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        crank = K.crank(0j, 0.0, np.linspace(0.1, 1.0, 5), 3.0, 0.0, 2)
+        out = K.rrr(crank, M0, K.ground_state(), h0, complex(0.0, 30.0), 2, None, 1e-9, 1e-7)
+    assert out.gap.min() >= 0.0 and isinstance(out.probe, np.ndarray)
