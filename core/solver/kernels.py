@@ -127,9 +127,9 @@ def crank(pivot: complex, a0_angle: float, inputs: Arr, omega: float | Arr, alph
     y.fill(pivot.imag)
     st = LinkState.real(pivot, (x, y), (np.cos(th), np.sin(th)))
     if order >= 1:
-        st.vxy, st.omega = (0.0, 0.0), omega
+        st._vA_xy, st.omega = (0.0, 0.0), omega      # slots: the state is new, no complex view
     if order >= 2:
-        st.axy, st.alpha = (0.0, 0.0), alpha
+        st._aA_xy, st.alpha = (0.0, 0.0), alpha
     return st
 
 
@@ -205,20 +205,20 @@ def _slider(g: LinkState, s0: complex, u0: complex, s: Arr, sd: Arr | None, sdd:
     if order >= 1:
         vzx, vzy = g.vel_xy(arm)
         if still:
-            st.vxy = _pair(_add(vzx, _sc(ux, sd)), _add(vzy, _sc(uy, sd)), shape)
+            st._vA_xy = _pair(_add(vzx, _sc(ux, sd)), _add(vzy, _sc(uy, sd)), shape)
         else:
             ws = g.omega * s
-            st.vxy = (_sub(_add(vzx, _sc(ux, sd)), _sc(uy, ws)), _add(_add(vzy, _sc(uy, sd)), _sc(ux, ws)))
+            st._vA_xy = (_sub(_add(vzx, _sc(ux, sd)), _sc(uy, ws)), _add(_add(vzy, _sc(uy, sd)), _sc(ux, ws)))
         st.omega = g.omega
     if order >= 2:
         azx, azy = g.acc_xy(arm)
         if still:
-            st.axy = _pair(_add(azx, _sc(ux, sdd)), _add(azy, _sc(uy, sdd)), shape)
+            st._aA_xy = _pair(_add(azx, _sc(ux, sdd)), _add(azy, _sc(uy, sdd)), shape)
         else:
             w = g.omega
             p = sdd - w * w * s                  # (sdd + 2iω·sd + (iα − ω²)·s)·u = (p + iq)·u
             q = 2.0 * w * sd + g.alpha * s
-            st.axy = (_sub(_add(azx, _sc(ux, p)), _sc(uy, q)), _add(_add(azy, _sc(uy, p)), _sc(ux, q)))
+            st._aA_xy = (_sub(_add(azx, _sc(ux, p)), _sc(uy, q)), _add(_add(azy, _sc(uy, p)), _sc(ux, q)))
         st.alpha = g.alpha
     return st
 
@@ -279,7 +279,7 @@ def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: co
         wx, wy = _minus(vM, vH)                          # −(right-hand side)
         wi = (wx * rjx + wy * rjy) * inv
         wj = (rix * wx + riy * wy) * inv
-        si.vxy, si.omega, sj.vxy, sj.omega = vM, wi, vH, wj
+        si._vA_xy, si.omega, sj._vA_xy, sj.omega = vM, wi, vH, wj   # new states: set the slots
     if order >= 2:
         aM, aH = m_state.acc_xy(armM), h_state.acc_xy(armH)
         wi2, wj2 = wi * wi, wj * wj
@@ -288,8 +288,8 @@ def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: co
         qx, qy = _minus(aM, aH)                          # −(eq. 3's right-hand side)
         qx = qx - wi2 * rix + wj2 * rjx
         qy = qy - wi2 * riy + wj2 * rjy
-        si.axy, si.alpha = aM, (qx * rjx + qy * rjy) * inv
-        sj.axy, sj.alpha = aH, (rix * qx + riy * qy) * inv
+        si._aA_xy, si.alpha = aM, (qx * rjx + qy * rjy) * inv
+        sj._aA_xy, sj.alpha = aH, (rix * qx + riy * qy) * inv
     # L finite: M and L − M are; with H finite both links' states are
     sl = li + lj
     if (every and isinstance(hx, float) and abs(hx) + abs(hy) < 1e200 and 1e-60 < sl < 1e60
@@ -348,7 +348,7 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
             wx, wy = vM[0] - vLx, vM[1] - vLy
         sd = (wx * rix + wy * riy) * inv                 # eq. 6 with correction A4
         wi = _sub(_sc(uy, wx), _sc(ux, wy)) * inv
-        si.vxy, si.omega = vM, wi
+        si._vA_xy, si.omega = vM, wi
     if order >= 2:
         aM = m_state.acc_xy(armM)
         wi2 = wi * wi
@@ -360,24 +360,24 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
             cor = 2.0 * g.omega * sd
             qx, qy = _add(qx - aLx, _sc(uy, cor)), _sub(qy - aLy, _sc(ux, cor))    # eq. 7
         sdd = (qx * rix + qy * riy) * inv
-        si.axy, si.alpha = aM, _sub(_sc(uy, qx), _sc(ux, qy)) * inv
+        si._aA_xy, si.alpha = aM, _sub(_sc(uy, qx), _sc(ux, qy)) * inv
     if on_guide:
         sj = LinkState.real(s0, (lx, ly), None)
         sj.share_rotation(g)
         if order >= 1:   # v_L = v_M + ω_i·J·r_i
-            sj.vxy, sj.omega = (vM[0] - wi * riy, vM[1] + wi * rix), g.omega
+            sj._vA_xy, sj.omega = (vM[0] - wi * riy, vM[1] + wi * rix), g.omega
         if order >= 2:   # a_L = (a_M − ω_i²·r_i) + α_i·J·r_i
             ai = si.alpha
-            sj.axy = (aLm[0] - ai * riy, aLm[1] + ai * rix)
+            sj._aA_xy = (aLm[0] - ai * riy, aLm[1] + ai * rix)
             sj.alpha = g.alpha
         # L's rates on link i are the slider's anchor rates, the same expressions term by term
         # (a_L: (a_M − ω_i²·r_i) + α_i·J·r_i as acc_xy orders them): extracted as copies
-        si.set_rates(l0, sj.vxy if order >= 1 else None, sj.axy if order >= 2 else None)
+        si.set_rates(l0, sj._vA_xy if order >= 1 else None, sj._aA_xy if order >= 2 else None)
         probe = lx + ly
     else:
         sj = _slider(g, s0, u0, s, sd, sdd, order, (armz, (zx, zy), (ux, uy)), still)
         if still and order >= 1:   # a fixed guide: the slider translates, L moves as its anchor
-            si.set_rates(l0, sj.vxy, sj.axy if order >= 2 else None)    # ṡ·u, s̈·u: copies
+            si.set_rates(l0, sj._vA_xy, sj._aA_xy if order >= 2 else None)    # ṡ·u, s̈·u: copies
         if still and isinstance(zx, float) and isinstance(zy, float) and isinstance(ux, float):
             probe = lx + ly        # a fixed guide: the slider (z + s·u) is finite where L is
         else:

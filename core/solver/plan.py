@@ -153,7 +153,8 @@ class Plan:
                     out = _held(step.run(states, order, None), inputs.shape, order)
                 else:
                     offsets = branches.get(step.group.name)
-                    flip = (linear_flip(offsets, inputs, self.theta0) if linear else
+                    flip = (None if offsets is None else   # no branch point: both give None
+                            linear_flip(offsets, inputs, self.theta0) if linear else
                             flip_factor(offsets, inputs, self.theta0, self.direction))
                     out = step.run(states, order, flip)
                 # assembled only where the solved poses are finite: the kernels' arithmetic can
@@ -221,11 +222,12 @@ class Plan:
         if drv.linear or not drv.law.is_constant:
             m = cycle(drv, self.theta0, n)
             return self.evaluate(m.q, order=order, omega=m.qd, alpha=m.qdd, joints=joints, t=m.t)
-        k = np.arange(n)
-        sgn = 1.0 if self.omega >= 0 else -1.0
+        k = np.arange(n, dtype=float)   # the same values as int k times a float (exact below 2**53)
+        w = self.omega
+        sgn = 1.0 if w >= 0 else -1.0
         inputs = self.theta0 + sgn * (2.0 * math.pi / n) * k
-        t = k * (2.0 * math.pi / abs(self.omega) / n)
-        return self.evaluate(inputs, order=order, joints=joints, t=t)
+        t = k * (2.0 * math.pi / abs(w) / n)
+        return self.evaluate(inputs, order=order, omega=w, joints=joints, t=t)
 
 
 def _held(out: K.DyadOut, shape: tuple[int, ...], order: int) -> K.DyadOut:
