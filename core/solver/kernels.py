@@ -223,6 +223,36 @@ def _slider(g: LinkState, s0: complex, u0: complex, s: Arr, sd: Arr | None, sdd:
     return st
 
 
+#: the drawn constants of a group (lengths, mode) per drawn geometry: Python floats for the tests
+#: and 0-d float arrays for the sample arithmetic (an array operand skips numpy's scalar
+#: conversion, ~0.16 µs a pass; the same double either way, so the same bits)
+_CONST: dict = {}
+_ONE, _TWO = np.array(1.0), np.array(2.0)
+
+
+def _const(key: tuple, make) -> tuple:
+    c = _CONST.get(key)
+    if c is None:
+        if len(_CONST) > 4096:     # geometry edited many times (a drag): start over
+            _CONST.clear()
+        c = _CONST[key] = make()
+    return c
+
+
+def _rrr_const(m0: complex, h0: complex, l0: complex) -> tuple:
+    li, lj = abs(l0 - m0), abs(l0 - h0)
+    mode0 = 1.0 if ((h0 - m0).conjugate() * (l0 - m0)).imag >= 0.0 else -1.0
+    dl, sl = li - lj, li + lj
+    a = np.array
+    return li, lj, mode0, dl, sl, a(li), a(dl), a(sl), a(dl * sl), a(li * lj)
+
+
+def _rrp_const(m0: complex, u0: complex, l0: complex) -> tuple:
+    li = abs(l0 - m0)
+    mode0 = 1.0 if (u0.conjugate() * (l0 - m0)).real >= 0.0 else -1.0
+    return li, mode0, np.array(li)
+
+
 def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: complex,
         order: int, flip: Arr | None = None, tol: float = 0.0, near: float = 0.0) -> DyadOut:
     """RRR dyad: link i = M–L, link j = H–L; M, H outer joints on known links, L the inner joint.
@@ -233,8 +263,7 @@ def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: co
     ``tol`` (mm): a margin ≥ −tol assembles; ``near`` (mm): M and H closer than this leave the
     direction M→H undetermined (a rhombus or kite where B meets D): singular, not solved.
     """
-    li, lj = abs(l0 - m0), abs(l0 - h0)
-    mode0 = 1.0 if ((h0 - m0).conjugate() * (l0 - m0)).imag >= 0.0 else -1.0
+    li, lj, mode0, dl, sl, LI, DL, SL, DLSL, LILJ = _const((m0, h0, l0), lambda: _rrr_const(m0, h0, l0))
     mode = mode0 if flip is None else mode0 * flip
     armM, armH = m_state.arm_xy(m0), h_state.arm_xy(h0)
     mx, my = m_state.point_xy(m0)
@@ -243,9 +272,8 @@ def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: co
     D2 = dx * dx + dy * dy
     D = np.sqrt(D2)
     # Heron in factored form: accurate near toggles (paper eq. 1 via atan2/Heron, notes §A)
-    dl = li - lj
-    f1, f2, f3 = li + lj - D, D - dl, D + dl
-    prod = (D + (li + lj)) * f1 * f2 * f3
+    f1, f2, f3 = SL - D, D - DL, D + DL
+    prod = (D + SL) * f1 * f2 * f3
     gap = np.minimum(np.minimum(f1, f2), f3)
     root, ok, every = _root(prod, gap, tol)
     singular = None                  # nowhere, unless the outer joints meet at some sample
@@ -259,9 +287,9 @@ def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: co
     # L in polar form, |L − M| = li exactly. (x, h) lose accuracy like eps·li²/D where M and H
     # nearly coincide (li ≈ lj), and the Cartesian form then left the loop open by up to li.
     # The common factor 1/(2D) of x and h cancels in q/|q|.
-    x = dl * (li + lj) + D2
+    x = DLSL + D2
     h = root if (flip is None and mode0 == 1.0) else mode * root
-    t = li / (np.sqrt(x * x + h * h) * D)
+    t = LI / (np.sqrt(x * x + h * h) * D)
     x = x * t
     h = h * t
     rix, riy = x * dx - h * dy, x * dy + h * dx          # L − M
@@ -272,9 +300,9 @@ def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: co
     si.set_point(l0, (rix, riy), (lx, ly))
     # velocity system (eq. 2): i·ω_i·r_i − i·ω_j·r_j = v_H − v_M, det = cross(J·ri, −J·rj)
     det = riy * rjx - rix * rjy
-    cond = np.abs(det) / (li * lj)
+    cond = np.abs(det) / LILJ
     if order >= 1:
-        inv = 1.0 / det
+        inv = _ONE / det
         vM, vH = m_state.vel_xy(armM), h_state.vel_xy(armH)
         wx, wy = _minus(vM, vH)                          # −(right-hand side)
         wi = (wx * rjx + wy * rjy) * inv
@@ -291,7 +319,6 @@ def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: co
         si._aA_xy, si.alpha = aM, (qx * rjx + qy * rjy) * inv
         sj._aA_xy, sj.alpha = aH, (rix * qx + riy * qy) * inv
     # L finite: M and L − M are; with H finite both links' states are
-    sl = li + lj
     if (every and isinstance(hx, float) and abs(hx) + abs(hy) < 1e200 and 1e-60 < sl < 1e60
             and abs(dl) > max(near, 1e-8 * sl)):
         # every pose finite, provably: D finite (every margin is), so M is; |li − lj| ≤ D ≤ li + lj
@@ -309,8 +336,7 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
     The guide is the axis through drawn ``s0`` with unit direction ``u0`` (moves with g). Mode:
     sign of the rod's projection on the guide in the drawn pose (the paper's choice of x_q).
     """
-    li = abs(l0 - m0)
-    mode0 = 1.0 if (u0.conjugate() * (l0 - m0)).real >= 0.0 else -1.0
+    li, mode0, LI = _const((m0, u0, l0, 0), lambda: _rrp_const(m0, u0, l0))
     mode = mode0 if flip is None else mode0 * flip
     armM = m_state.arm_xy(m0)
     mx, my = m_state.point_xy(m0)
@@ -322,8 +348,8 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
     dx, dy = np.subtract(_add(zx, bx), mx), np.subtract(_add(zy, by), my)   # numpy even for scalars
     du = _add(_sc(ux, dx), _sc(uy, dy))
     dn = _sub(_sc(ux, dy), _sc(uy, dx))  # signed eccentricity e_s + l_j sin φ_jq − M·n (A1–A3 corrected)
-    gap = li - np.abs(dn)
-    root, ok, _ = _root((li - dn) * (li + dn), gap, tol)
+    gap = LI - np.abs(dn)
+    root, ok, _ = _root((LI - dn) * (LI + dn), gap, tol)
     s = (root - du) if (flip is None and mode0 == 1.0) else mode * root - du
     rix, riy = _add(dx, _sc(ux, s)), _add(dy, _sc(uy, s))
     si = LinkState.turned(m0, (mx, my), (rix, riy), l0 - m0)
@@ -331,7 +357,7 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
     si.set_point(l0, (rix, riy), (lx, ly))
     # columns c1 = u, c2 = −J·ri: det = −(u·ri)
     udr = _add(_sc(ux, rix), _sc(uy, riy))
-    cond = np.abs(udr) / li
+    cond = np.abs(udr) / LI
     still = g.still()
     on_guide = not still and l0 == s0   # the pin is the slider's anchor: its motion is L's
     sd = sdd = None
@@ -339,7 +365,7 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
         gx, gy = g.xy
         armL = (lx - gx, ly - gy)                        # the guide's point under L
     if order >= 1:
-        inv = 1.0 / udr
+        inv = _ONE / udr
         vM = m_state.vel_xy(armM)
         if still:
             wx, wy = vM
@@ -357,7 +383,7 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
         aLm = (qx, qy)                                   # a_M − ω_i²·r_i, reused for a_L
         if not still:
             aLx, aLy = g.acc_xy(armL)
-            cor = 2.0 * g.omega * sd
+            cor = _TWO * g.omega * sd
             qx, qy = _add(qx - aLx, _sc(uy, cor)), _sub(qy - aLy, _sc(ux, cor))    # eq. 7
         sdd = (qx * rix + qy * riy) * inv
         si._aA_xy, si.alpha = aM, _sub(_sc(uy, qx), _sc(ux, qy)) * inv
