@@ -108,7 +108,9 @@ def _root(x: Arr, gap: Arr, tol: float) -> tuple[Arr, Arr, bool]:
     x ≥ +0 there, and sqrt(x) is bit for bit sqrt(max(x, 0)), without the clamping pass and the
     masks (one reduction instead; a NaN margin fails it and takes the general path)."""
     if isinstance(gap, np.ndarray) and gap.ndim and gap.size and gap.min() >= 0.0:
-        return np.sqrt(x), np.ones(gap.shape, dtype=bool), True
+        ok = np.empty(gap.shape, dtype=bool)   # np.ones: 0.4 µs more
+        ok.fill(True)
+        return np.sqrt(x), ok, True
     ok = gap >= -tol
     root = np.sqrt(np.maximum(x, 0.0))
     if isinstance(root, np.ndarray) and root.ndim:

@@ -280,7 +280,10 @@ class LinkState:
 
     def write_velocity(self, p0: complex, out: Arr) -> Arr:
         """Velocity of the point drawn at ``p0`` into ``out`` (N, 2), mm/s (as :meth:`vel_xy`)."""
-        e = self._entry(p0)
+        pts = self._points
+        e = None if pts is None else pts.get(p0)
+        if e is None:
+            e = self._entry(p0)
         if len(e) > 2 and e[2] is not None:          # recorded by the kernel
             return _fill(out, *e[2])
         vx, vy = self._vA_xy or self.vxy
@@ -304,7 +307,10 @@ class LinkState:
 
     def write_acceleration(self, p0: complex, out: Arr) -> Arr:
         """Acceleration of the point drawn at ``p0`` into ``out`` (N, 2), mm/s² (as :meth:`acc_xy`)."""
-        e = self._entry(p0)
+        pts = self._points
+        e = None if pts is None else pts.get(p0)
+        if e is None:
+            e = self._entry(p0)
         if len(e) > 3 and e[3] is not None:          # recorded by the kernel
             return _fill(out, *e[3])
         gx, gy = self._aA_xy or self.axy

@@ -209,7 +209,7 @@ class Solution:
     # -- joints and points ----------------------------------------------------------------
     def position(self, joint: str) -> np.ndarray:
         """(N, 2) position of ``joint``, mm."""
-        st, p0 = self._joint(joint)
+        st, p0 = self._joints.get(joint) or self._joint(joint)
         out = st.write_point(p0, np.empty((self._n, 2)))
         return out if self._all_valid else self._mask(out)
 
@@ -217,7 +217,7 @@ class Solution:
         """(N, 2) velocity, mm/s."""
         if self.order < 1:
             self._need(1, "velocity")
-        st, p0 = self._joint(joint)
+        st, p0 = self._joints.get(joint) or self._joint(joint)
         if self._quiet or self._is_quiet():
             return st.write_velocity(p0, np.empty((self._n, 2)))
         with np.errstate(invalid="ignore", over="ignore"):
@@ -228,7 +228,7 @@ class Solution:
         """(N, 2) acceleration, mm/s²."""
         if self.order < 2:
             self._need(2, "acceleration")
-        st, p0 = self._joint(joint)
+        st, p0 = self._joints.get(joint) or self._joint(joint)
         if self._quiet or self._is_quiet():
             return st.write_acceleration(p0, np.empty((self._n, 2)))
         with np.errstate(invalid="ignore", over="ignore"):
