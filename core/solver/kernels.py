@@ -348,17 +348,18 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
     # slider pin relative to the slide point (l_j, φ_jq of the paper)
     bx, by = g.rotate(l0 - s0) if l0 != s0 else (0.0, 0.0)
     dx, dy = np.subtract(_add(zx, bx), mx), np.subtract(_add(zy, by), my)   # numpy even for scalars
-    du = _add(_sc(ux, dx), _sc(uy, dy))
-    dn = _sub(_sc(ux, dy), _sc(uy, dx))  # signed eccentricity e_s + l_j sin φ_jq − M·n (A1–A3 corrected)
+    arr = ux.__class__ is np.ndarray and uy.__class__ is np.ndarray   # a turning guide: no scalar terms
+    du = ux * dx + uy * dy if arr else _add(_sc(ux, dx), _sc(uy, dy))
+    dn = ux * dy - uy * dx if arr else _sub(_sc(ux, dy), _sc(uy, dx))  # signed eccentricity e_s + l_j sin φ_jq − M·n (A1–A3 corrected)
     gap = LI - np.abs(dn)
     root, ok, _ = _root((LI - dn) * (LI + dn), gap, tol)
     s = (root - du) if (flip is None and mode0 == 1.0) else mode * root - du
-    rix, riy = _add(dx, _sc(ux, s)), _add(dy, _sc(uy, s))
+    rix, riy = (dx + ux * s, dy + uy * s) if arr else (_add(dx, _sc(ux, s)), _add(dy, _sc(uy, s)))
     si = LinkState.turned(m0, (mx, my), (rix, riy), l0 - m0)
     lx, ly = mx + rix, my + riy
     si.set_point(l0, (rix, riy), (lx, ly))
     # columns c1 = u, c2 = −J·ri: det = −(u·ri)
-    udr = _add(_sc(ux, rix), _sc(uy, riy))
+    udr = ux * rix + uy * riy if arr else _add(_sc(ux, rix), _sc(uy, riy))
     cond = np.abs(udr) / LI
     still = g.still()
     on_guide = not still and l0 == s0   # the pin is the slider's anchor: its motion is L's
@@ -375,7 +376,7 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
             vLx, vLy = g.vel_xy(armL)
             wx, wy = vM[0] - vLx, vM[1] - vLy
         sd = (wx * rix + wy * riy) * inv                 # eq. 6 with correction A4
-        wi = _sub(_sc(uy, wx), _sc(ux, wy)) * inv
+        wi = (uy * wx - ux * wy if arr else _sub(_sc(uy, wx), _sc(ux, wy))) * inv
         si._vA_xy, si.omega = vM, wi
     if order >= 2:
         aM = m_state.acc_xy(armM)
@@ -386,9 +387,10 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
         if not still:
             aLx, aLy = g.acc_xy(armL)
             cor = _TWO * g.omega * sd
-            qx, qy = _add(qx - aLx, _sc(uy, cor)), _sub(qy - aLy, _sc(ux, cor))    # eq. 7
+            qx, qy = ((qx - aLx + uy * cor, qy - aLy - ux * cor) if arr else             # eq. 7
+                      (_add(qx - aLx, _sc(uy, cor)), _sub(qy - aLy, _sc(ux, cor))))
         sdd = (qx * rix + qy * riy) * inv
-        si._aA_xy, si.alpha = aM, _sub(_sc(uy, qx), _sc(ux, qy)) * inv
+        si._aA_xy, si.alpha = aM, (uy * qx - ux * qy if arr else _sub(_sc(uy, qx), _sc(ux, qy))) * inv
     if on_guide:
         sj = LinkState.real(s0, (lx, ly), None)
         sj.share_rotation(g)

