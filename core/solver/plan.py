@@ -153,7 +153,7 @@ class Plan:
                     out = _held(step.run(states, order, None), inputs.shape, order)
                 else:
                     offsets = branches.get(step.group.name)
-                    flip = (None if offsets is None else   # no branch point: both give None
+                    flip = (None if offsets is None or not offsets.size else   # no branch point: both give None
                             linear_flip(offsets, inputs, self.theta0) if linear else
                             flip_factor(offsets, inputs, self.theta0, self.direction))
                     out = step.run(states, order, flip)
