@@ -301,6 +301,12 @@ class LinkState:
                 np.multiply(w, ax, out=out[:, 1])
                 return out
         o0, o1 = out[:, 0], out[:, 1]
+        t = w * ay
+        if t.__class__ is np.ndarray and t.ndim == 1:   # a contiguous temporary: one strided pass
+            np.subtract(vx, t, out=o0)
+            np.multiply(w, ax, out=t)
+            np.add(vy, t, out=o1)
+            return out
         np.multiply(w, ay, out=o0)
         np.subtract(vx, o0, out=o0)
         np.multiply(w, ax, out=o1)
@@ -332,9 +338,19 @@ class LinkState:
                 np.add(gy, o1, out=o1)
             return out
         w2 = self.omega2()
+        t, u = w2 * ax, al * ay
+        if (t.__class__ is np.ndarray and t.ndim == 1 and u.__class__ is np.ndarray
+                and u.ndim == 1):   # contiguous temporaries: one strided pass a column
+            np.subtract(gx, t, out=t)
+            np.subtract(t, u, out=o0)
+            np.multiply(w2, ay, out=t)
+            np.subtract(gy, t, out=t)
+            np.multiply(al, ax, out=u)
+            np.add(t, u, out=o1)
+            return out
         np.multiply(w2, ax, out=o0)
         np.subtract(gx, o0, out=o0)
-        np.subtract(o0, al * ay, out=o0)
+        np.subtract(o0, u, out=o0)
         np.multiply(w2, ay, out=o1)
         np.subtract(gy, o1, out=o1)
         np.add(o1, al * ax, out=o1)
