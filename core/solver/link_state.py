@@ -9,6 +9,8 @@ joint's position is computed once per solve however often it is read.
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 Arr = np.ndarray
@@ -266,6 +268,7 @@ class LinkState:
         return gx - w2 * ax - al * ay, gy - w2 * ay + al * ax
 
     # -- into (N, 2) arrays (the extraction of joint results: no temporaries copied) ------------
+    # Each returns the result: ``out``, or a new zeroed array for a result of scalar +0.0s.
     def write_point(self, p0: complex, out: Arr) -> Arr:
         """The point drawn at ``p0`` into ``out`` (N, 2), mm."""
         pts = self._points
@@ -377,9 +380,12 @@ class LinkState:
 
 
 def _fill(out: Arr, x, y) -> Arr:
-    """Write x and y (float (N,) arrays or scalars) into the columns of ``out`` (N, 2)."""
+    """Write x and y (float (N,) arrays or scalars) into the columns of ``out`` (N, 2); returns
+    ``out``, or for x = y = +0.0 a new zeroed array of its shape instead."""
     if isinstance(x, float) and isinstance(y, float):
         if x == y:
+            if x == 0.0 and math.copysign(1.0, x) == 1.0:
+                return np.zeros(out.shape)   # +0.0: calloc'd, ~0.8 µs under a fill at N = 3,600
             out.fill(x)
         else:   # column fills: broadcasting a pair over (N, 2) is ~5× slower
             out[:, 0].fill(x)
