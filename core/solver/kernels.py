@@ -127,7 +127,8 @@ def crank(pivot: complex, a0_angle: float, inputs: Arr, omega: float | Arr, alph
     x, y = np.empty(inputs.shape), np.empty(inputs.shape)
     x.fill(pivot.real)
     y.fill(pivot.imag)
-    st = LinkState.real(pivot, (x, y), (np.cos(th), np.sin(th)))
+    c = np.cos(th)
+    st = LinkState.real(pivot, (x, y), (c, np.sin(th, out=th)))   # sin into th: no new array
     if order >= 1:
         st._vA_xy, st.omega = (0.0, 0.0), omega      # slots: the state is new, no complex view
     if order >= 2:

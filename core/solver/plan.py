@@ -225,9 +225,11 @@ class Plan:
         k = np.arange(n, dtype=float)   # the same values as int k times a float (exact below 2**53)
         w = self.omega
         sgn = 1.0 if w >= 0 else -1.0
-        inputs = self.theta0 + sgn * (2.0 * math.pi / n) * k
-        t = k * (2.0 * math.pi / abs(w) / n)
-        return self.evaluate(inputs, order=order, omega=w, joints=joints, t=t)
+        inputs = sgn * (2.0 * math.pi / n) * k
+        inputs += self.theta0           # θ0 + sgn·(2π/N)·k, in place (no second array)
+        dt = 2.0 * math.pi / abs(w) / n
+        # the times: made only if read (Solution.t calls this)
+        return self.evaluate(inputs, order=order, omega=w, joints=joints, t=lambda: k * dt)
 
 
 def _held(out: K.DyadOut, shape: tuple[int, ...], order: int) -> K.DyadOut:

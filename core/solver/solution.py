@@ -97,11 +97,14 @@ class Solution:
     @property
     def t(self) -> np.ndarray:
         """(N,) time of each sample, s (made on first use when the solve was not given one)."""
-        if self._t is None:
+        t = self._t
+        if t is None:
             inputs, omega = self.input, self.omega_driver
-            self._t = ((inputs - inputs[0]) / omega if np.ndim(omega) == 0 and omega
-                       else np.zeros_like(inputs))
-        return self._t
+            t = self._t = ((inputs - inputs[0]) / omega if np.ndim(omega) == 0 and omega
+                           else np.zeros_like(inputs))
+        elif t.__class__ is not np.ndarray and callable(t):   # made on first use (a sweep's)
+            t = self._t = t()
+        return t
 
     @t.setter
     def t(self, value: np.ndarray) -> None:
