@@ -89,7 +89,7 @@ class Solution:
         self._all_valid = bool(valid.all())
         self._quiet: bool | None = None
         self._rates_valid: np.ndarray | None = None
-        self._joints: dict[str, tuple[K.LinkState, complex]] = {}   # joint -> (state, drawn point)
+        self._joint_at = plan.joint_at   # joint -> (link reporting it, drawn point)
 
     def __len__(self) -> int:
         return self.input.shape[0]
@@ -192,15 +192,12 @@ class Solution:
             raise RequestError(f"{what} needs a solve with order >= {order} (this one has order {self.order})")
 
     def _joint(self, joint: str) -> tuple[K.LinkState, complex]:
-        got = self._joints.get(joint)
-        if got is not None:
-            return got
+        """(state of the link reporting ``joint``, its drawn point); UnknownIdError for a joint
+        not in the linkage or on a link not solved here."""
         e = self.plan.joint_at.get(joint)
         if e is None:
             raise UnknownIdError(f"linkage {self.plan.linkage.id!r} has no joint {joint!r}")
-        st = self._states.get(e[0])
-        got = self._joints[joint] = (self._state(e[0]) if st is None else st), e[1]
-        return got
+        return self._state(e[0]), e[1]
 
     def link_state(self, link: str) -> K.LinkState:
         """The kernel state of ``link`` (anchor, rotation and their rates: complex/float (N,) or
@@ -212,7 +209,9 @@ class Solution:
     # -- joints and points ----------------------------------------------------------------
     def position(self, joint: str) -> np.ndarray:
         """(N, 2) position of ``joint``, mm."""
-        st, p0 = self._joints.get(joint) or self._joint(joint)
+        e = self._joint_at.get(joint)
+        st = None if e is None else self._states.get(e[0])
+        st, p0 = self._joint(joint) if st is None else (st, e[1])
         out = st.write_point(p0, np.empty((self._n, 2)))
         return out if self._all_valid else self._mask(out)
 
@@ -220,7 +219,9 @@ class Solution:
         """(N, 2) velocity, mm/s."""
         if self.order < 1:
             self._need(1, "velocity")
-        st, p0 = self._joints.get(joint) or self._joint(joint)
+        e = self._joint_at.get(joint)
+        st = None if e is None else self._states.get(e[0])
+        st, p0 = self._joint(joint) if st is None else (st, e[1])
         if self._quiet or self._is_quiet():
             return st.write_velocity(p0, np.empty((self._n, 2)))
         with np.errstate(invalid="ignore", over="ignore"):
@@ -231,7 +232,9 @@ class Solution:
         """(N, 2) acceleration, mm/s²."""
         if self.order < 2:
             self._need(2, "acceleration")
-        st, p0 = self._joints.get(joint) or self._joint(joint)
+        e = self._joint_at.get(joint)
+        st = None if e is None else self._states.get(e[0])
+        st, p0 = self._joint(joint) if st is None else (st, e[1])
         if self._quiet or self._is_quiet():
             return st.write_acceleration(p0, np.empty((self._n, 2)))
         with np.errstate(invalid="ignore", over="ignore"):
