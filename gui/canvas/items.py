@@ -25,7 +25,7 @@ from PySide6.QtWidgets import QGraphicsItem, QStyleOptionGraphicsItem, QWidget
 from mechsketch.core.model.drivers import input_text
 from mechsketch.core.model.linkage import JointKind
 
-from ..qpath import finite_path
+from ..qpath import xy_path as _path
 from .events import XY, Hit
 from .pose import ElementPose, SolutionArrays, link_outline, slider_roles
 
@@ -359,35 +359,6 @@ class LinkageItem(_Item):
         y = min(p[1] for p in pts)
         _text(painter, (x, y), f"{self.pose.element}: {short_error(self.pose.error or '')}", px,
               -8.0, -36.0, NOTE, LABEL_PX)
-
-
-def decimate(xy: np.ndarray, step: float) -> np.ndarray:
-    """Drop points of an (N, 2) path closer than ``step`` (mm, along the path) to the last kept
-    one; the ends of every finite run and one NaN row between runs are kept."""
-    n = len(xy)
-    if n < 3 or step <= 0:
-        return xy
-    fin = np.isfinite(xy).all(axis=1)
-    with np.errstate(invalid="ignore"):
-        d = np.hypot(*np.diff(xy, axis=0).T)
-    s = np.concatenate(([0.0], np.cumsum(np.where(np.isfinite(d), d, 0.0))))
-    bucket = np.floor(s / step)
-    keep = np.ones(n, dtype=bool)
-    keep[1:] = bucket[1:] != bucket[:-1]
-    change = fin[1:] != fin[:-1]
-    keep[1:] |= change
-    keep[:-1] |= change
-    keep[0] = keep[-1] = True
-    keep &= fin | np.concatenate(([True], change)) | np.concatenate((change, [True]))
-    return xy[keep]
-
-
-def _path(xy: np.ndarray, close: bool = False, step: float = 0.0) -> QPainterPath:
-    """A QPainterPath through the (N, 2) points (decimated to ``step`` mm); NaN rows break it."""
-    if close and np.isfinite(xy).all() and len(xy) > 2:
-        xy = np.vstack([xy, xy[:1]])
-    xy = decimate(xy, step)
-    return finite_path(xy[:, 0], xy[:, 1])   # pyqtgraph's arrayToQPath(connect="finite") without pyqtgraph
 
 
 class TraceItem(_Item):
