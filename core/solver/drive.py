@@ -31,22 +31,13 @@ from ..model.drivers import DriverKind, input_unit
 from ..model.linkage import JointKind, Link, Linkage
 from . import kernels as K
 from .branches import CANDIDATE, GOLDEN_STEPS, REF_SAMPLES, golden_min
+from .solution import _axis, _c
 from .stroke_kernels import Cylinder, Stroke, _bar, rrp_var, rrr_var
 from .structure import MODAL_KINDS, Group, GroupKind, _split, decompose, fixed_links, joint_count, mobility
 from .tolerances import TOUCH_REL
 
 if TYPE_CHECKING:  # pragma: no cover
     from .plan import Plan
-
-
-def _c(xy) -> complex:
-    return complex(float(xy[0]), float(xy[1]))
-
-
-def _axis(linkage: Linkage, jid: str) -> tuple[complex, complex]:
-    j = linkage.joint(jid)
-    a = math.radians(j.axis_deg or 0.0)
-    return _c(j.at), complex(math.cos(a), math.sin(a))
 
 
 def _check_mobility(linkage: Linkage) -> None:
