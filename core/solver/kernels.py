@@ -85,6 +85,9 @@ class DyadOut:
     #: (N,) finite exactly where both link states are (a sum of the kernel's coordinates), or None;
     #: a finite float: the kernel proved both states finite at every sample
     probe: Arr | float | None = None
+    #: a lower bound of ``cond`` at every sample from the assembly margins, exact arithmetic (0.0:
+    #: none known); the rounding of the computed ``cond`` is far below it where it is ≥ 1e-6
+    cond_floor: float = 0.0
 
 
 #: PRP/RPP: below this |sin| between the two slide axes the lines are taken as parallel (not
@@ -101,34 +104,45 @@ def _sqrt_ok(x: Arr, gap: Arr, tol: float) -> tuple[Arr, Arr]:
     return root, ok
 
 
-def _root(x: Arr, gap: Arr, tol: float) -> tuple[Arr, Arr, bool]:
-    """:func:`_sqrt_ok` and whether every sample has ``gap`` ≥ 0 (then ok is True everywhere).
+def _root(x: Arr, gap: Arr, tol: float) -> tuple[Arr, Arr, float | None]:
+    """:func:`_sqrt_ok` and, when every sample has ``gap`` ≥ 0 (then ok is True everywhere), the
+    smallest margin (a float ≥ 0; None otherwise).
 
     ``x`` must be a product of factors that are all ≥ 0 where ``gap`` (their minimum) is: then
     x ≥ +0 there, and sqrt(x) is bit for bit sqrt(max(x, 0)), without the clamping pass and the
     masks (one reduction instead; a NaN margin fails it and takes the general path)."""
-    if isinstance(gap, np.ndarray) and gap.ndim and gap.size and gap.min() >= 0.0:
-        ok = np.empty(gap.shape, dtype=bool)   # np.ones: 0.4 µs more
-        ok.fill(True)
-        return np.sqrt(x), ok, True
+    if isinstance(gap, np.ndarray) and gap.ndim and gap.size:
+        g = gap.min()
+        if g >= 0.0:
+            ok = np.empty(gap.shape, dtype=bool)   # np.ones: 0.4 µs more
+            ok.fill(True)
+            return np.sqrt(x), ok, float(g)
     ok = gap >= -tol
     root = np.sqrt(np.maximum(x, 0.0))
     if isinstance(root, np.ndarray) and root.ndim:
         if not ok.all():
             root[~ok] = np.nan
-        return root, ok, False
-    return np.sqrt(np.where(ok, np.maximum(x, 0.0), np.nan)), ok, False
+        return root, ok, None
+    return np.sqrt(np.where(ok, np.maximum(x, 0.0), np.nan)), ok, None
+
+
+def _floor(num: float, den: float) -> float:
+    """num / den as a conditioning's lower bound: 0.0 (none known) unless both are finite and
+    den > 0, so that overflow, underflow or a NaN margin never pass for a bound."""
+    if math.isfinite(num) and math.isfinite(den) and den > 0.0:
+        f = num / den
+        if math.isfinite(f):
+            return f
+    return 0.0
 
 
 def crank(pivot: complex, a0_angle: float, inputs: Arr, omega: float | Arr, alpha: float | Arr,
           order: int) -> LinkState:
     """The driver: rotation about a ground pivot by ``inputs − a0_angle`` (rad)."""
     th = inputs - a0_angle
-    x, y = np.empty(inputs.shape), np.empty(inputs.shape)
-    x.fill(pivot.real)
-    y.fill(pivot.imag)
     c = np.cos(th)
-    st = LinkState.real(pivot, (x, y), (c, np.sin(th, out=th)))   # sin into th: no new array
+    # the anchor (the pivot) as scalars, like the frame's: points of the crank are pivot + arm
+    st = LinkState.real(pivot, (pivot.real, pivot.imag), (c, np.sin(th, out=th)))   # sin into th
     if order >= 1:
         st._vA_xy, st.omega = (0.0, 0.0), omega      # slots: the state is new, no complex view
     if order >= 2:
@@ -278,7 +292,8 @@ def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: co
     f1, f2, f3 = SL - D, D - DL, D + DL
     prod = (D + SL) * f1 * f2 * f3
     gap = np.minimum(np.minimum(f1, f2), f3)
-    root, ok, every = _root(prod, gap, tol)
+    root, ok, gmin = _root(prod, gap, tol)
+    every = gmin is not None
     singular = None                  # nowhere, unless the outer joints meet at some sample
     # every f2, f3 ≥ 0: D ≥ |li − lj| at every sample, so |li − lj| > near rules out a meeting
     if not (every and abs(dl) > near):
@@ -329,7 +344,11 @@ def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: co
         probe = 0.0
     else:
         probe = lx + ly if isinstance(hx, float) and math.isfinite(hx + hy) else lx + ly + (hx + hy)
-    return DyadOut(si, sj, ok, cond, gap, int(mode0), singular=singular, probe=probe)
+    # |det| = li·lj·|sin μ| = √prod / 2; with every margin ≥ gmin: f1 ≥ gmin, the smaller of
+    # f2, f3 (D − |li − lj|) ≥ gmin, the larger ≥ gmin + 2·|li − lj|, D + li + lj ≥ li + lj
+    floor = _floor(gmin * math.sqrt(sl * (gmin + 2.0 * abs(dl))), 2.0 * li * lj) if every else 0.0
+    return DyadOut(si, sj, ok, cond, gap, int(mode0), singular=singular, probe=probe,
+                   cond_floor=floor)
 
 
 def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex, l0: complex,
@@ -353,7 +372,7 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
     du = ux * dx + uy * dy if arr else _add(_sc(ux, dx), _sc(uy, dy))
     dn = ux * dy - uy * dx if arr else _sub(_sc(ux, dy), _sc(uy, dx))  # signed eccentricity e_s + l_j sin φ_jq − M·n (A1–A3 corrected)
     gap = LI - np.abs(dn)
-    root, ok, _ = _root((LI - dn) * (LI + dn), gap, tol)
+    root, ok, gmin = _root((LI - dn) * (LI + dn), gap, tol)
     s = (root - du) if (flip is None and mode0 == 1.0) else mode * root - du
     rix, riy = (dx + ux * s, dy + uy * s) if arr else (_add(dx, _sc(ux, s)), _add(dy, _sc(uy, s)))
     si = LinkState.turned(m0, (mx, my), (rix, riy), l0 - m0)
@@ -414,7 +433,10 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
         else:
             sx, sy = sj.xy
             probe = lx + ly + (sx + sy)
-    return DyadOut(si, sj, ok, cond, gap, int(mode0), (Slide(s, sd, sdd),), probe=probe)
+    # |u·ri| = √((li − dn)(li + dn)), the smaller factor ≥ gmin and the larger ≥ li
+    floor = _floor(math.sqrt(gmin), math.sqrt(li)) if gmin is not None else 0.0
+    return DyadOut(si, sj, ok, cond, gap, int(mode0), (Slide(s, sd, sdd),), probe=probe,
+                   cond_floor=floor)
 
 
 def rpr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, u0: complex,

@@ -171,9 +171,11 @@ class Solution:
 
     def _is_quiet(self) -> bool:
         """True when the rates cannot meet inf, 0/0 or overflow in the extraction's arithmetic:
-        every sample assembled, every group's conditioning at least 1e-8, the input's rate at most
-        1e30 and its acceleration 1e60 (per s, s²), coordinates at most 1e30 mm: the rates are
-        then below ~1e130 and their squares times the arms finite. Otherwise the extraction runs
+        every sample assembled, every group's conditioning at least 1e-8 (known without a
+        reduction over the samples where its kernel's lower bound from the assembly margins,
+        :attr:`~.kernels.DyadOut.cond_floor`, is at least 1e-6), the input's rate at most 1e30
+        and its acceleration 1e60 (per s, s²), coordinates at most 1e30 mm: the rates are then
+        below ~1e130 and their squares times the arms finite. Otherwise the extraction runs
         under ``np.errstate`` (1 µs a call)."""
         q = self._quiet
         if q is None:
@@ -181,7 +183,8 @@ class Solution:
                  and _below(self.omega_driver, 1e30) and _below(self.alpha_driver, 1e60))
             for out in self._outs.values() if q else ():
                 c = out.cond
-                if isinstance(c, np.ndarray) and c.size and not c.min() >= 1e-8:
+                if (out.cond_floor < 1e-6 and isinstance(c, np.ndarray) and c.size   # no reduction
+                        and not c.min() >= 1e-8):          # where the margins bound it far above
                     q = False
                     break
             self._quiet = q

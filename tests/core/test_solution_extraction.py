@@ -40,6 +40,7 @@ def test_non_finite_rates_are_extracted_silently():
     k = 5
     g = sol.groups[0].name
     sol.group_output(g).cond[k] = 0.0
+    sol.group_output(g).cond_floor = 0.0    # the margins' bound: ~0 at a real toggle
     st = sol.link_state("coupler")
     arm = sol.position("C")[k] - sol.position("B")[k]
     st.omega = np.array(st.omega, dtype=float)
