@@ -57,13 +57,13 @@ class Slide:
     sdd: Arr | None = None
 
 
-@dataclass
 class DyadOut:
     """What a dyad kernel returns: the two link states, the feasibility mask and conditioning.
 
     ``cond`` is |det| / (|c1||c2|) of the velocity system, in [0, 1]: the sine of the angle
-    between its columns (|sin μ| for RRR). ``gap`` is the signed assembly margin (mm or mm²,
-    negative where the group cannot be assembled) used to locate limits precisely.
+    between its columns (|sin μ| for RRR); a kernel may give it as a function of no arguments,
+    called on first read (most solves never read it). ``gap`` is the signed assembly margin (mm
+    or mm², negative where the group cannot be assembled) used to locate limits precisely.
     ``mode`` is the assembly mode read from the drawn pose (+1 or −1; the per-sample mode is it
     times the branch-point flip), None for PRP and RPP, which have a single assembly.
     ``slides`` holds one :class:`Slide` per prismatic joint of the group, in the order outer_i,
@@ -72,22 +72,37 @@ class DyadOut:
     j; outer_j: link j on known_j); none for RRR.
     ``singular`` (bool (N,), or None: nowhere) marks samples where the group assembles but its pose
     is undetermined (RRR, RPR: the outer joints coincide within rounding); ``ok`` is False there.
+    ``probe``: (N,) finite exactly where both link states are (a sum of the kernel's
+    coordinates), or None; a finite float: the kernel proved both states finite at every sample.
+    ``cond_floor``: a lower bound of ``cond`` at every sample from the assembly margins, exact
+    arithmetic (0.0: none known); the rounding of the computed ``cond`` is far below it where it
+    is ≥ 1e-6. ``every``: the kernel found every sample assembled (``ok`` all True, a new array).
     """
 
-    state_i: LinkState
-    state_j: LinkState
-    ok: Arr
-    cond: Arr
-    gap: Arr
-    mode: int | None = None
-    slides: tuple[Slide, ...] = ()
-    singular: Arr | None = None
-    #: (N,) finite exactly where both link states are (a sum of the kernel's coordinates), or None;
-    #: a finite float: the kernel proved both states finite at every sample
-    probe: Arr | float | None = None
-    #: a lower bound of ``cond`` at every sample from the assembly margins, exact arithmetic (0.0:
-    #: none known); the rounding of the computed ``cond`` is far below it where it is ≥ 1e-6
-    cond_floor: float = 0.0
+    __slots__ = ("state_i", "state_j", "ok", "_cond", "gap", "mode", "slides", "singular", "probe",
+                 "cond_floor", "every")
+
+    def __init__(self, state_i: LinkState, state_j: LinkState, ok: Arr, cond, gap: Arr,
+                 mode: int | None = None, slides: tuple[Slide, ...] = (), singular: Arr | None = None,
+                 probe: Arr | float | None = None, cond_floor: float = 0.0, every: bool = False) -> None:
+        self.state_i, self.state_j, self.ok, self._cond, self.gap = state_i, state_j, ok, cond, gap
+        self.mode, self.slides, self.singular, self.probe = mode, slides, singular, probe
+        self.cond_floor, self.every = cond_floor, every
+
+    @property
+    def cond(self) -> Arr:
+        c = self._cond
+        if callable(c):
+            c = self._cond = c()
+        return c
+
+    @cond.setter
+    def cond(self, value: Arr) -> None:
+        self._cond = value
+
+    def __repr__(self) -> str:
+        return (f"DyadOut(mode={self.mode!r}, every={self.every!r}, cond_floor={self.cond_floor!r}, "
+                f"slides={len(self.slides)})")
 
 
 #: PRP/RPP: below this |sin| between the two slide axes the lines are taken as parallel (not
@@ -291,7 +306,8 @@ def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: co
     # Heron in factored form: accurate near toggles (paper eq. 1 via atan2/Heron, notes §A)
     f1, f2, f3 = SL - D, D - DL, D + DL
     prod = (D + SL) * f1 * f2 * f3
-    gap = np.minimum(np.minimum(f1, f2), f3)
+    # min(f2, f3) is D − |li − lj|: f2 for li ≥ lj (rounding is monotonic: D − DL ≤ D ≤ D + DL)
+    gap = np.minimum(f1, f2 if dl >= 0.0 else f3)
     root, ok, gmin = _root(prod, gap, tol)
     every = gmin is not None
     singular = None                  # nowhere, unless the outer joints meet at some sample
@@ -318,16 +334,16 @@ def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: co
     si.set_point(l0, (rix, riy), (lx, ly))
     # velocity system (eq. 2): i·ω_i·r_i − i·ω_j·r_j = v_H − v_M, det = cross(J·ri, −J·rj)
     det = riy * rjx - rix * rjy
-    cond = np.abs(det) / LILJ
+    cond = lambda: np.abs(det) / LILJ                    # noqa: E731 (made if read)
     if order >= 1:
         inv = _ONE / det
-        vM, vH = m_state.vel_xy(armM), h_state.vel_xy(armH)
+        vM, vH = m_state.vel_at(m0, armM), h_state.vel_at(h0, armH)
         wx, wy = _minus(vM, vH)                          # −(right-hand side)
         wi = (wx * rjx + wy * rjy) * inv
         wj = (rix * wx + riy * wy) * inv
         si._vA_xy, si.omega, sj._vA_xy, sj.omega = vM, wi, vH, wj   # new states: set the slots
     if order >= 2:
-        aM, aH = m_state.acc_xy(armM), h_state.acc_xy(armH)
+        aM, aH = m_state.acc_at(m0, armM), h_state.acc_at(h0, armH)
         wi2, wj2 = wi * wi, wj * wj
         si.set_omega2(wi2)
         sj.set_omega2(wj2)
@@ -348,7 +364,7 @@ def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: co
     # f2, f3 (D − |li − lj|) ≥ gmin, the larger ≥ gmin + 2·|li − lj|, D + li + lj ≥ li + lj
     floor = _floor(gmin * math.sqrt(sl * (gmin + 2.0 * abs(dl))), 2.0 * li * lj) if every else 0.0
     return DyadOut(si, sj, ok, cond, gap, int(mode0), singular=singular, probe=probe,
-                   cond_floor=floor)
+                   cond_floor=floor, every=every and singular is None)
 
 
 def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex, l0: complex,
@@ -380,8 +396,14 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
     si.set_point(l0, (rix, riy), (lx, ly))
     # columns c1 = u, c2 = −J·ri: det = −(u·ri)
     udr = ux * rix + uy * riy if arr else _add(_sc(ux, rix), _sc(uy, riy))
-    cond = np.abs(udr) / LI
+    cond = lambda: np.abs(udr) / LI                      # noqa: E731 (made if read)
     still = g.still()
+    # every margin finite: dn = u × d is, which on a turning guide (u arrays, every product
+    # taken) needs u and d finite (an infinite component gives ±inf or inf − inf or 0·inf), so
+    # M and the guide point z + b are (d = z + b − M), and with |dn| ≤ li so are s = ±√ − du, the
+    # rod r_i = d + s·u, L = M + r_i and the slider z + s·u (short of overflow beyond 1e308, as
+    # the RRR's and the plan's probes assume)
+    proved = gmin is not None and arr and 1e-60 < li < 1e60
     on_guide = not still and l0 == s0   # the pin is the slider's anchor: its motion is L's
     sd = sdd = None
     if not still:
@@ -389,7 +411,7 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
         armL = (lx - gx, ly - gy)                        # the guide's point under L
     if order >= 1:
         inv = _ONE / udr
-        vM = m_state.vel_xy(armM)
+        vM = m_state.vel_at(m0, armM)
         if still:
             wx, wy = vM
         else:
@@ -399,7 +421,7 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
         wi = (uy * wx - ux * wy if arr else _sub(_sc(uy, wx), _sc(ux, wy))) * inv
         si._vA_xy, si.omega = vM, wi
     if order >= 2:
-        aM = m_state.acc_xy(armM)
+        aM = m_state.acc_at(m0, armM)
         wi2 = wi * wi
         si.set_omega2(wi2)
         qx, qy = aM[0] - wi2 * rix, aM[1] - wi2 * riy
@@ -423,20 +445,22 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
         # L's rates on link i are the slider's anchor rates, the same expressions term by term
         # (a_L: (a_M − ω_i²·r_i) + α_i·J·r_i as acc_xy orders them): extracted as copies
         si.set_rates(l0, sj._vA_xy if order >= 1 else None, sj._aA_xy if order >= 2 else None)
-        probe = lx + ly
+        probe = 0.0 if proved else lx + ly
     else:
         sj = _slider(g, s0, u0, s, sd, sdd, order, (armz, (zx, zy), (ux, uy)), still)
         if still and order >= 1:   # a fixed guide: the slider translates, L moves as its anchor
             si.set_rates(l0, sj._vA_xy, sj._aA_xy if order >= 2 else None)    # ṡ·u, s̈·u: copies
         if still and isinstance(zx, float) and isinstance(zy, float) and isinstance(ux, float):
             probe = lx + ly        # a fixed guide: the slider (z + s·u) is finite where L is
+        elif proved:
+            probe = 0.0
         else:
             sx, sy = sj.xy
             probe = lx + ly + (sx + sy)
     # |u·ri| = √((li − dn)(li + dn)), the smaller factor ≥ gmin and the larger ≥ li
     floor = _floor(math.sqrt(gmin), math.sqrt(li)) if gmin is not None else 0.0
     return DyadOut(si, sj, ok, cond, gap, int(mode0), (Slide(s, sd, sdd),), probe=probe,
-                   cond_floor=floor)
+                   cond_floor=floor, every=gmin is not None)
 
 
 def rpr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, u0: complex,

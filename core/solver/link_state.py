@@ -54,6 +54,7 @@ def _vec(name: str, doc: str) -> tuple[property, property]:
     def set_z(self, value):
         setattr(self, cz, value)
         setattr(self, cr, None)
+        self._rates = None
         if moves:
             self._points = None
 
@@ -67,6 +68,7 @@ def _vec(name: str, doc: str) -> tuple[property, property]:
     def set_r(self, value):
         setattr(self, cr, value)
         setattr(self, cz, None)
+        self._rates = None
         if moves:
             self._points = None
 
@@ -84,7 +86,7 @@ class LinkState:
     """
 
     __slots__ = ("a0", "omega", "alpha", "_w2", "_A", "_A_xy", "_rot", "_rot_xy", "_vA", "_vA_xy",
-                 "_aA", "_aA_xy", "_points", "_turn")
+                 "_aA", "_aA_xy", "_points", "_turn", "_rates")
 
     A, xy = _vec("A", "anchor position, mm")
     _rot_z, _cs = _vec("rot", "rotation from the drawn pose, exp(iρ)")
@@ -125,7 +127,7 @@ class LinkState:
         self._A_xy = self._rot_xy = self._vA_xy = self._aA_xy = None
         self.omega, self.alpha = omega, alpha
         self._w2 = None
-        self._points = None
+        self._points = self._rates = None
 
     @classmethod
     def real(cls, a0: complex, xy: Pair, cs: Pair, vxy: Pair | None = None, omega=None,
@@ -139,7 +141,7 @@ class LinkState:
         st._A_xy, st._rot_xy, st._vA_xy, st._aA_xy = xy, cs, vxy, axy
         st.omega, st.alpha = omega, alpha
         st._w2 = None
-        st._points = None
+        st._points = st._rates = None
         return st
 
     @classmethod
@@ -218,6 +220,32 @@ class LinkState:
         e = self._points[p0]
         del e[2:]
         e += (vel, acc)
+
+    def vel_at(self, p0: complex, arm: Pair) -> Pair:
+        """:meth:`vel_xy` of the point drawn at ``p0`` (``arm``: its :meth:`arm_xy`), computed
+        once per state for the kernels that read it (an outer joint two groups hang on). The
+        state's rates must be final (the kernels set them before any reader)."""
+        r = self._rates
+        if r is None:
+            r = self._rates = {}
+        e = r.get(p0)
+        if e is None:
+            e = r[p0] = [self.vel_xy(arm), None]
+        elif e[0] is None:
+            e[0] = self.vel_xy(arm)
+        return e[0]
+
+    def acc_at(self, p0: complex, arm: Pair) -> Pair:
+        """:meth:`acc_xy` of the point drawn at ``p0``, computed once per state (as :meth:`vel_at`)."""
+        r = self._rates
+        if r is None:
+            r = self._rates = {}
+        e = r.get(p0)
+        if e is None:
+            e = r[p0] = [None, self.acc_xy(arm)]
+        elif e[1] is None:
+            e[1] = self.acc_xy(arm)
+        return e[1]
 
     def omega2(self):
         """ω² (rad²/s²): the kernel's, if it recorded it for this ω (:meth:`set_omega2`)."""

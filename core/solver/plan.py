@@ -168,7 +168,7 @@ class Plan:
                                                               out.state_j.xy, out.state_j.cs)
                     probe = xi + yi + ci + si + xj + yj + cj + sj
                 if not (type(probe) is float and math.isfinite(probe)):   # finite float: proved finite
-                    out.ok = out.ok & np.isfinite(probe)
+                    out.ok, out.every = out.ok & np.isfinite(probe), False
                 states[step.group.link_i] = out.state_i
                 states[step.group.link_j] = out.state_j
                 outs[step.group.name] = out
@@ -195,17 +195,20 @@ class Plan:
         states: dict[str, K.LinkState] = {}
         outs = self.run_steps(inputs, order, idx, branches, w, alpha, states)
         valid = None
+        every = True        # every group found every sample assembled: valid is all True
         for out in outs.values():
             if valid is None:
                 valid = np.array(out.ok, dtype=bool)
                 if valid.shape != inputs.shape:
                     valid = np.broadcast_to(valid, inputs.shape).copy()
-            else:
+            elif not (every and out.every):
                 np.logical_and(valid, out.ok, out=valid)
+            every = every and out.every
         if valid is None:
             valid = np.ones(inputs.shape, dtype=bool)
         elapsed = time.perf_counter() - start
-        return Solution(self, inputs, order, states, outs, valid, w, t, elapsed, alpha)
+        return Solution(self, inputs, order, states, outs, valid, w, t, elapsed, alpha,
+                        all_valid=True if every else None)
 
     def sweep(self, samples: int | None = None, order: int = 2, joints: Iterable[str] | None = None
               ) -> "Solution":

@@ -71,7 +71,8 @@ class Solution:
     Samples where some evaluated group cannot be assembled are NaN and ``valid`` is False there.
     """
 
-    def __init__(self, plan: Plan, inputs, order, states, outs, valid, omega, t, elapsed, alpha=0.0):
+    def __init__(self, plan: Plan, inputs, order, states, outs, valid, omega, t, elapsed, alpha=0.0,
+                 all_valid: bool | None = None):
         self.plan = plan
         #: (N,) the driver's input at each sample: the crank angle (rad) or the actuator's length
         #: (cylinder) or displacement along its guide (slider), mm — see ``plan.input_unit``
@@ -86,7 +87,7 @@ class Solution:
         self._states = states
         self._outs = outs
         self._n = inputs.shape[0]
-        self._all_valid = bool(valid.all())
+        self._all_valid = bool(valid.all()) if all_valid is None else all_valid   # known: no reduction
         self._quiet: bool | None = None
         self._rates_valid: np.ndarray | None = None
         self._joint_at = plan.joint_at   # joint -> (link reporting it, drawn point)
