@@ -87,6 +87,13 @@ def resweep(old: Solution, plan: Plan, moved: Iterable[str]) -> Solution | None:
     branches = plan.branch_points(sorted(dirty))
     start = time.perf_counter()
     states = dict(old._states)
+    # the reused states cache points by drawn position: drop the moved joints' old positions, or
+    # a long drag leaves (N,) arrays behind at every move
+    drawn = {at for _, at in plan.joint_at.values()}
+    for link in clean_links:
+        st = states.get(link)
+        if st is not None:
+            st.keep_only(drawn)
     outs = dict(old._outs)
     fresh = plan.run_steps(old.input, old.order, sorted(dirty), branches, old.omega_driver, old.alpha_driver,
                            states)

@@ -213,6 +213,14 @@ class LinkState:
             self._points = {}
         self._points[p0] = [arm, at]
 
+    def keep_only(self, drawn: set) -> None:
+        """Drop the cached points and rates of drawn positions not in ``drawn`` (a state reused by
+        the next solve after a joint moved: its old positions are read no more)."""
+        for cache in (self._points, self._rates):
+            if cache:
+                for p0 in [p for p in cache if p not in drawn]:
+                    del cache[p0]
+
     def set_rates(self, p0: complex, vel: Pair | None, acc: Pair | None) -> None:
         """Record the velocity and acceleration (x, y) of the point drawn at ``p0`` as computed by
         a kernel (the point must be recorded already, :meth:`set_point`): its extraction copies
