@@ -156,7 +156,12 @@ def keep_reference_states(old: "Plan", new: "Plan", links: set[str]) -> None:
     they see exactly the same inputs)."""
     src = getattr(old.local(), REF_STATES, None)
     if src:
-        setattr(new.local(), REF_STATES, {link: st for link, st in src.items() if link in links})
+        local = new.local()
+        kept = {link: st for link, st in src.items() if link in links}
+        drawn = {at for _, at in local.joint_at.values()}
+        for st in kept.values():   # the moved joints' old positions are read no more
+            st.keep_only(drawn)
+        setattr(local, REF_STATES, kept)
 
 
 def _search_group(lp: "Plan", k: int, out, delta: np.ndarray, step_h: float,

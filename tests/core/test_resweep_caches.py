@@ -11,6 +11,7 @@ from dataclasses import replace
 import numpy as np
 
 from mechsketch.core import load_scene
+from mechsketch.core.solver import branches
 from mechsketch.core.solver.incremental import resweep
 from mechsketch.core.solver.plan import compile_plan
 from mechsketch.resources import example_path
@@ -34,6 +35,11 @@ def test_dragging_a_guide_point_keeps_the_reused_states_caches_bounded():
         sol = nxt
     n_joints = len(lk.joint_ids)
     assert len(rocker._points or {}) <= n_joints and len(rocker._rates or {}) <= n_joints
+    # and the branch-point search's states at its reference inputs, kept across the drag too
+    ref = getattr(sol.plan.local(), branches.REF_STATES)
+    assert "rocker" in ref
+    for st in ref.values():
+        assert len(st._points or {}) <= n_joints and len(st._rates or {}) <= n_joints
     fresh = compile_plan(new).sweep(360, order=2)
     for j in new.joint_ids:
         assert np.array_equal(sol.position(j), fresh.position(j))
