@@ -16,14 +16,15 @@ drawn pose (with a short note if it does not solve yet). Mouse input becomes
 :class:`~mechsketch.gui.canvas.events.CanvasEvent` for the active tool of :attr:`toolbox`.
 Zoom with the wheel (about the cursor), pan with the middle button or Space + drag, fit with F
 or a middle double-click, cancel a tool's half-done placement with Esc or the right button.
+
+This module keeps the view's set-up, actions, syncing of the graphics items with the controller
+and zoom; the mouse and key routing is :class:`~mechsketch.gui.canvas.view_input.CanvasInputMixin`
+(view_input.py) and the grid and scale bar are painted by gui/canvas/grid.py.
 """
 from __future__ import annotations
 
-import math
-
-from PySide6.QtCore import QEvent, QLineF, QPointF, QRectF, Qt, Signal
-from PySide6.QtGui import (QAction, QColor, QKeyEvent, QKeySequence, QMouseEvent, QPainter, QPen,
-                           QTransform, QWheelEvent)
+from PySide6.QtCore import QPointF, QRectF, Qt, Signal
+from PySide6.QtGui import QAction, QKeySequence, QPainter, QTransform, QWheelEvent
 from PySide6.QtWidgets import QGraphicsScene, QGraphicsView, QWidget
 
 from mechsketch.core.model.edits import RemoveElement
@@ -32,36 +33,19 @@ from mechsketch.core.workspace import GenevaResult
 
 from ..selection import ELEMENT
 from .pose import map_frame
-from .events import XY, CanvasEvent, Hit
+from .events import XY, Hit
 from .extras import CanvasExtras
 from .geneva_items import GenevaItem
+from .grid import (BACKGROUND, GRID_AXES, GRID_MAJOR, GRID_MIN_PX, GRID_MINOR,  # noqa: F401 - re-exported
+                   grid_steps, paint_grid, paint_scale_bar)
 from .items import DeadPointItem, LinkageItem, OverlayItem, TraceItem
 from .rolling_items import RollingItem
 from .toolbox import ToolBox
 from .tools import ToolContext, delete_selection
+from .view_input import PICK_PX, CanvasInputMixin  # noqa: F401 - PICK_PX re-exported
 
-PICK_PX = 8.0                 # pick radius, screen pixels
-GRID_MIN_PX = 12.0            # the minor grid is at least this far apart on screen
 SCALE_RANGE = (0.02, 400.0)   # pixels per millimetre
 WORLD = 1.0e5                 # the scene spans +-WORLD mm
-BACKGROUND = QColor("#fbfbfc")
-GRID_MINOR = QColor("#eceef2")
-GRID_MAJOR = QColor("#d9dde4")
-GRID_AXES = QColor("#b4bac5")
-
-
-def grid_steps(px: float) -> tuple[float, float]:
-    """(minor, major) grid spacing in mm for ``px`` mm per pixel: 1-2-5 steps, major a power of
-    ten or five times one, at least five minors apart."""
-    raw = GRID_MIN_PX * px
-    e = math.floor(math.log10(raw))
-    for m in (1, 2, 5, 10):
-        if m * 10.0 ** e >= raw * (1 - 1e-9):
-            minor = m * 10.0 ** e
-            break
-    lead = round(minor / 10.0 ** math.floor(math.log10(minor) + 1e-9))
-    major = minor * (10 if lead in (1, 5) else 5)
-    return minor, major
 
 
 def default_traced(linkage: Linkage) -> set[str]:
@@ -98,7 +82,7 @@ class _ElementItems:
         return (self.linkage, self.trace, self.dead)
 
 
-class CanvasView(QGraphicsView):
+class CanvasView(CanvasInputMixin, QGraphicsView):
     """The mechanism canvas. See the module docstring for embedding.
 
     Signals: ``cursorMoved(x_mm, y_mm)``, ``dragStarted()``, ``dragFinished()`` (a joint,
@@ -220,6 +204,24 @@ class CanvasView(QGraphicsView):
         self._overlay.set_overlay(self.toolbox.tool.overlay())
         self.setCursor(Qt.CursorShape.ArrowCursor if name == "select" else Qt.CursorShape.CrossCursor)
         self.toolChanged.emit(name)
+
+    def delete_selected(self) -> bool:
+        """Delete the selected joints and links (and whole selected elements) as one undo command."""
+        sel = list(self.controller.selection)
+        whole = [e for e, k, _ in sel if k == ELEMENT and e in self.controller.scene.ids]
+        if not whole:
+            return delete_selection(self.ctx, sel)
+        stack = self.controller.undo_stack
+        stack.beginMacro(f"delete {', '.join(whole)}")
+        try:
+            done = any([self.controller.push(RemoveElement(e, f"delete {e}"), f"delete {e}") for e in whole])
+            rest = [s for s in sel if s[1] != ELEMENT]
+            if rest:
+                done = delete_selection(self.ctx, rest) or done
+        finally:
+            stack.endMacro()
+        self.controller.set_selection([])
+        return done
 
     # -- geometry helpers -----------------------------------------------------------------------
     def px(self) -> float:
@@ -425,199 +427,11 @@ class CanvasView(QGraphicsView):
             self.zoom_by(1.0015 ** delta)
         event.accept()
 
-    # -- mouse ------------------------------------------------------------------------------------
-    def _canvas_event(self, kind: str, e: QMouseEvent) -> CanvasEvent:
-        raw = self.world(e.position())
-        tol = PICK_PX * self.px()
-        hit = self.ctx.pick(raw, tol)
-        names = {Qt.MouseButton.LeftButton: "left", Qt.MouseButton.RightButton: "right",
-                 Qt.MouseButton.MiddleButton: "middle"}
-        held = frozenset(n for b, n in names.items() if e.buttons() & b)
-        mods = e.modifiers()
-        modifiers = frozenset(n for m, n in ((Qt.KeyboardModifier.ShiftModifier, "shift"),
-                                             (Qt.KeyboardModifier.ControlModifier, "ctrl"),
-                                             (Qt.KeyboardModifier.AltModifier, "alt")) if mods & m)
-        return CanvasEvent(kind, self.snap(raw, hit), raw, names.get(e.button(), "none"), held, modifiers,
-                           hit, tol)
-
-    def dispatch(self, ev: CanvasEvent) -> None:
-        """Hand ``ev`` to the active tool and show the result (public for tests and macros)."""
-        tool = self.extras.handles.route(ev, self.toolbox.tool)   # a press on a handle drags it
-        tool = self.extras.loads.route(ev, tool)                  # ... and on a load's handle
-        if tool is self.toolbox.tool and self._select_element(ev):
-            return
-        tool.handle(ev)
-        self._overlay.set_overlay(tool.overlay())
-        if tool.busy != self._busy:
-            self._busy = tool.busy
-            (self.dragStarted if self._busy else self.dragFinished).emit()
-            if not self._busy:
-                self._on_frame()
-        if ev.kind == "move" and not ev.buttons and ev.hit != self._hover:
-            self._hover = ev.hit
-            self._highlight()
-
-    def mousePressEvent(self, e: QMouseEvent) -> None:  # noqa: N802 - Qt API
-        if e.button() == Qt.MouseButton.MiddleButton or (e.button() == Qt.MouseButton.LeftButton and self._space):
-            self._pan_from = e.position()
-            self._space_panned = True
-            self.setCursor(Qt.CursorShape.ClosedHandCursor)
-            return
-        if e.button() == Qt.MouseButton.RightButton:
-            self.cancel_tool()
-            return
-        self.dispatch(self._canvas_event("press", e))
-
-    def mouseMoveEvent(self, e: QMouseEvent) -> None:  # noqa: N802 - Qt API
-        if self._pan_from is not None:
-            d = e.position() - self._pan_from
-            self._pan_from = e.position()
-            self.horizontalScrollBar().setValue(self.horizontalScrollBar().value() - round(d.x()))
-            self.verticalScrollBar().setValue(self.verticalScrollBar().value() - round(d.y()))
-            return
-        ev = self._canvas_event("move", e)
-        self.cursorMoved.emit(ev.pos[0], ev.pos[1])
-        self.dispatch(ev)
-
-    def mouseReleaseEvent(self, e: QMouseEvent) -> None:  # noqa: N802 - Qt API
-        if self._pan_from is not None:
-            self._pan_from = None
-            self.setCursor(Qt.CursorShape.OpenHandCursor if self._space else
-                           Qt.CursorShape.ArrowCursor if self.toolbox.name == "select" else Qt.CursorShape.CrossCursor)
-            return
-        if e.button() == Qt.MouseButton.RightButton:
-            return
-        self.dispatch(self._canvas_event("release", e))
-
-    def mouseDoubleClickEvent(self, e: QMouseEvent) -> None:  # noqa: N802 - Qt API
-        if e.button() == Qt.MouseButton.MiddleButton:
-            self.zoom_to_fit()
-            return
-        self.dispatch(self._canvas_event("double", e))
-
-    def leaveEvent(self, event) -> None:  # noqa: N802 - Qt API
-        if self._hover is not None:
-            self._hover = None
-            self._highlight()
-        super().leaveEvent(event)
-
-    def cancel_tool(self) -> None:
-        """Abandon what the active tool is doing (a half-placed dyad, a drag)."""
-        tool = self.toolbox.tool
-        tool.cancel()
-        self.extras.handles.cancel()
-        self.extras.loads.cancel()
-        self._overlay.set_overlay(tool.overlay())
-        if self._busy:
-            self._busy = False
-            self.dragFinished.emit()
-            self._on_frame()
-
-    def _select_element(self, ev: CanvasEvent) -> bool:
-        """With the select tool, a click on a Geneva drive or rolling lever (no joint or link
-        under it) selects the element (Shift toggles it); True if the click was taken."""
-        if ev.kind != "press" or ev.button != "left" or ev.hit is not None or self.toolbox.name != "select":
-            return False
-        eid = self.element_at(ev.raw, ev.tolerance)
-        if eid is None:
-            return False
-        item = (eid, ELEMENT, eid)
-        sel = list(self.controller.selection) if ev.shift else []
-        sel.remove(item) if item in sel else sel.append(item)
-        self.controller.set_selection(sel)
-        return True
-
-    def delete_selected(self) -> bool:
-        """Delete the selected joints and links (and whole selected elements) as one undo command."""
-        sel = list(self.controller.selection)
-        whole = [e for e, k, _ in sel if k == ELEMENT and e in self.controller.scene.ids]
-        if not whole:
-            return delete_selection(self.ctx, sel)
-        stack = self.controller.undo_stack
-        stack.beginMacro(f"delete {', '.join(whole)}")
-        try:
-            done = any([self.controller.push(RemoveElement(e, f"delete {e}"), f"delete {e}") for e in whole])
-            rest = [s for s in sel if s[1] != ELEMENT]
-            if rest:
-                done = delete_selection(self.ctx, rest) or done
-        finally:
-            stack.endMacro()
-        self.controller.set_selection([])
-        return done
-
-    # -- keys -------------------------------------------------------------------------------------
-    def event(self, e: QEvent) -> bool:  # noqa: D401 - Qt API
-        if (e.type() == QEvent.Type.ShortcutOverride and isinstance(e, QKeyEvent)
-                and e.key() in (Qt.Key.Key_Space, Qt.Key.Key_Escape) and not e.modifiers()):
-            e.accept()
-            return True
-        return super().event(e)
-
-    def keyPressEvent(self, e: QKeyEvent) -> None:  # noqa: N802 - Qt API
-        if e.key() == Qt.Key.Key_Escape:
-            self.cancel_tool()
-        elif e.key() == Qt.Key.Key_Space:
-            if not e.isAutoRepeat():
-                self._space, self._space_panned = True, False
-                self.setCursor(Qt.CursorShape.OpenHandCursor)
-        elif not e.modifiers() and self.toolbox.tool.key(e.text()):   # e.g. 3-9: Geneva slots
-            self._overlay.set_overlay(self.toolbox.tool.overlay())
-        else:
-            super().keyPressEvent(e)
-
-    def keyReleaseEvent(self, e: QKeyEvent) -> None:  # noqa: N802 - Qt API
-        if e.key() == Qt.Key.Key_Space and not e.isAutoRepeat():
-            self._space = False
-            self.setCursor(Qt.CursorShape.ArrowCursor if self.toolbox.name == "select" else Qt.CursorShape.CrossCursor)
-            if not self._space_panned and self._tap_action is not None:
-                self._tap_action.trigger()
-        else:
-            super().keyReleaseEvent(e)
-
     # -- painting ---------------------------------------------------------------------------------
     def drawBackground(self, painter: QPainter, rect: QRectF) -> None:  # noqa: N802 - Qt API
-        painter.fillRect(rect, BACKGROUND)
-        painter.setRenderHint(QPainter.RenderHint.Antialiasing, False)
-        minor, major = grid_steps(self.px())
-        for step, color in ((minor, GRID_MINOR), (major, GRID_MAJOR)):
-            pen = QPen(color, 0)
-            pen.setCosmetic(True)
-            painter.setPen(pen)
-            lines = []
-            k0, k1 = math.floor(rect.left() / step), math.ceil(rect.right() / step)
-            if k1 - k0 < 2000:
-                lines += [QLineF(k * step, rect.top(), k * step, rect.bottom()) for k in range(k0, k1 + 1)]
-            k0, k1 = math.floor(rect.top() / step), math.ceil(rect.bottom() / step)
-            if k1 - k0 < 2000:
-                lines += [QLineF(rect.left(), k * step, rect.right(), k * step) for k in range(k0, k1 + 1)]
-            painter.drawLines(lines)
-        pen = QPen(GRID_AXES, 0)
-        pen.setCosmetic(True)
-        painter.setPen(pen)
-        painter.drawLines([QLineF(0, rect.top(), 0, rect.bottom()), QLineF(rect.left(), 0, rect.right(), 0)])
+        """The background and grid (see :func:`~mechsketch.gui.canvas.grid.paint_grid`)."""
+        paint_grid(painter, rect, self.px())
 
     def drawForeground(self, painter: QPainter, rect: QRectF) -> None:  # noqa: N802 - Qt API
         """A scale bar in the bottom-left corner."""
-        px = self.px()
-        _minor, major = grid_steps(px)
-        length = major
-        while length / px > 160:
-            length /= 2
-        while length / px < 60:
-            length *= 2
-        painter.save()
-        painter.resetTransform()
-        painter.setRenderHint(QPainter.RenderHint.Antialiasing, True)
-        h = self.viewport().height()
-        x0, y0, w = 16.0, h - 18.0, length / px
-        pen = QPen(QColor("#4b5563"), 1.5)
-        painter.setPen(pen)
-        painter.drawLine(QPointF(x0, y0), QPointF(x0 + w, y0))
-        for x in (x0, x0 + w):
-            painter.drawLine(QPointF(x, y0 - 5), QPointF(x, y0 + 1))
-        font = painter.font()
-        font.setPixelSize(11)
-        painter.setFont(font)
-        label = f"{length:g} mm"
-        painter.drawText(QPointF(x0 + w + 6, y0 + 4), label)
-        painter.restore()
+        paint_scale_bar(painter, self.px(), self.viewport().height())
