@@ -18,13 +18,13 @@ Zoom with the wheel (about the cursor), pan with the middle button or Space + dr
 or a middle double-click, cancel a tool's half-done placement with Esc or the right button.
 
 This module keeps the view's set-up, actions, syncing of the graphics items with the controller
-and zoom; the mouse and key routing is :class:`~mechsketch.gui.canvas.view_input.CanvasInputMixin`
-(view_input.py) and the grid and scale bar are painted by gui/canvas/grid.py.
+and zoom; its mouse and key events go to the :class:`~mechsketch.gui.canvas.view_input.CanvasInput`
+it owns (view_input.py), and gui/canvas/grid.py paints the grid and scale bar.
 """
 from __future__ import annotations
 
-from PySide6.QtCore import QPointF, QRectF, Qt, Signal
-from PySide6.QtGui import QAction, QKeySequence, QPainter, QTransform, QWheelEvent
+from PySide6.QtCore import QEvent, QPointF, QRectF, Qt, Signal
+from PySide6.QtGui import QAction, QKeyEvent, QKeySequence, QMouseEvent, QPainter, QTransform, QWheelEvent
 from PySide6.QtWidgets import QGraphicsScene, QGraphicsView, QWidget
 
 from mechsketch.core.model.edits import RemoveElement
@@ -33,7 +33,7 @@ from mechsketch.core.workspace import GenevaResult
 
 from ..selection import ELEMENT
 from .pose import map_frame
-from .events import XY, Hit
+from .events import XY, CanvasEvent, Hit
 from .extras import CanvasExtras
 from .geneva_items import GenevaItem
 from .grid import (BACKGROUND, GRID_AXES, GRID_MAJOR, GRID_MIN_PX, GRID_MINOR,  # noqa: F401 - re-exported
@@ -42,7 +42,7 @@ from .items import DeadPointItem, LinkageItem, OverlayItem, TraceItem
 from .rolling_items import RollingItem
 from .toolbox import ToolBox
 from .tools import ToolContext, delete_selection
-from .view_input import PICK_PX, CanvasInputMixin  # noqa: F401 - PICK_PX re-exported
+from .view_input import PICK_PX, CanvasInput  # noqa: F401 - PICK_PX re-exported
 
 SCALE_RANGE = (0.02, 400.0)   # pixels per millimetre
 WORLD = 1.0e5                 # the scene spans +-WORLD mm
@@ -77,12 +77,11 @@ class _ElementItems:
             scene.addItem(it)
         self.drawn: tuple | None = None   # what the items show: see _same_drawing
 
-
     def all(self) -> tuple:
         return (self.linkage, self.trace, self.dead)
 
 
-class CanvasView(CanvasInputMixin, QGraphicsView):
+class CanvasView(QGraphicsView):
     """The mechanism canvas. See the module docstring for embedding.
 
     Signals: ``cursorMoved(x_mm, y_mm)``, ``dragStarted()``, ``dragFinished()`` (a joint,
@@ -96,6 +95,9 @@ class CanvasView(CanvasInputMixin, QGraphicsView):
 
     def __init__(self, controller, parent: QWidget | None = None) -> None:
         super().__init__(parent)
+        self._overlay = OverlayItem()
+        #: mouse and key handling (view_input.py), made first: Qt sends events (ChildAdded) from here on
+        self._input = CanvasInput(self, self._overlay, self._highlight, self._on_frame)
         self.controller = controller
         self.ctx = ToolContext(controller)
         self.toolbox = ToolBox(self.ctx, self)
@@ -107,18 +109,11 @@ class CanvasView(CanvasInputMixin, QGraphicsView):
         self._items: dict[str, _ElementItems] = {}
         #: Geneva drives and rolling levers: one item each, rebuilt when their result changes
         self.element_items: dict[str, GenevaItem | RollingItem] = {}
-        self._overlay = OverlayItem()
         self._scene.addItem(self._overlay)
         self._trace_override: dict[tuple[str, str], bool] = {}
-        self._hover: Hit | None = None
         self._key: tuple | None = None
         self._fit_pending = False   # a replaced document is fitted at its first sync
         self._snap = True
-        self._pan_from: QPointF | None = None
-        self._space = False
-        self._space_panned = False
-        self._tap_action: QAction | None = None
-        self._busy = False
         self._fitted = False
         self._labels = True
 
@@ -177,7 +172,7 @@ class CanvasView(CanvasInputMixin, QGraphicsView):
 
     def set_tap_action(self, action: QAction | None) -> None:
         """The action a tap on Space triggers while the canvas has focus (Space + drag pans)."""
-        self._tap_action = action
+        self._input.tap_action = action
 
     @property
     def snap_enabled(self) -> bool:
@@ -357,7 +352,7 @@ class CanvasView(CanvasInputMixin, QGraphicsView):
     def _highlight(self) -> None:
         sel = self.controller.selection
         for el, items in self._items.items():
-            items.linkage.set_highlight(self._hover, {(k, i) for e, k, i in sel if e == el})
+            items.linkage.set_highlight(self._input.hover, {(k, i) for e, k, i in sel if e == el})
         chosen = {e for e, k, _ in sel if k == ELEMENT}
         for eid, item in self.element_items.items():
             item.set_selected(eid in chosen)
@@ -416,16 +411,39 @@ class CanvasView(CanvasInputMixin, QGraphicsView):
             self.extras.set_px(px)
         self.viewport().update()
 
+    # -- input: handed to self._input (view_input.CanvasInput) ------------------------------------
+    def dispatch(self, ev: CanvasEvent) -> None:
+        """Hand ``ev`` to the active tool and show the result (public for tests and macros)."""
+        self._input.dispatch(ev)
+
+    def cancel_tool(self) -> None:
+        """Abandon what the active tool is doing (a half-placed dyad, a drag)."""
+        self._input.cancel_tool()
+
+    def mousePressEvent(self, e: QMouseEvent) -> None:  # noqa: N802 - Qt API
+        self._input.press_event(e)
+    def mouseMoveEvent(self, e: QMouseEvent) -> None:  # noqa: N802 - Qt API
+        self._input.move_event(e)
+    def mouseReleaseEvent(self, e: QMouseEvent) -> None:  # noqa: N802 - Qt API
+        self._input.release_event(e)
+    def mouseDoubleClickEvent(self, e: QMouseEvent) -> None:  # noqa: N802 - Qt API
+        self._input.double_click_event(e)
+    def leaveEvent(self, event: QEvent) -> None:  # noqa: N802 - Qt API
+        self._input.leave_event()
+        super().leaveEvent(event)
+    def event(self, e: QEvent) -> bool:  # noqa: D401 - Qt API
+        return self._input.shortcut_override(e) or super().event(e)
+    def keyPressEvent(self, e: QKeyEvent) -> None:  # noqa: N802 - Qt API
+        self._input.key_press(e) or super().keyPressEvent(e)
+    def keyReleaseEvent(self, e: QKeyEvent) -> None:  # noqa: N802 - Qt API
+        self._input.key_release(e) or super().keyReleaseEvent(e)
+    def wheelEvent(self, event: QWheelEvent) -> None:  # noqa: N802 - Qt API
+        self._input.wheel_event(event)
+
     def showEvent(self, event) -> None:  # noqa: N802 - Qt API
         super().showEvent(event)
         if not self._fitted:
             self.zoom_to_fit(quiet=True)
-
-    def wheelEvent(self, event: QWheelEvent) -> None:  # noqa: N802 - Qt API
-        delta = event.angleDelta().y() or event.angleDelta().x()
-        if delta:
-            self.zoom_by(1.0015 ** delta)
-        event.accept()
 
     # -- painting ---------------------------------------------------------------------------------
     def drawBackground(self, painter: QPainter, rect: QRectF) -> None:  # noqa: N802 - Qt API

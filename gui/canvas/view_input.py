@@ -1,63 +1,73 @@
-"""Mouse and key routing of the canvas: Qt input events become tool events, pans and zooms.
+"""Mouse, wheel and key routing of the canvas: Qt input events become tool events, pans and zooms.
 
-:class:`CanvasInputMixin` is the input half of :class:`~mechsketch.gui.canvas.view.CanvasView`
-(which inherits from it, before ``QGraphicsView``). A mouse event becomes a
+:class:`CanvasInput` is the input half of :class:`~mechsketch.gui.canvas.view.CanvasView`: the
+view owns one and its Qt event handlers are one-line calls into it. A mouse event becomes a
 :class:`~mechsketch.gui.canvas.events.CanvasEvent` (world and snapped positions, buttons,
-modifiers, the pick under the cursor) that :meth:`~CanvasInputMixin.dispatch` hands to a handle, a
+modifiers, the pick under the cursor) that :meth:`~CanvasInput.dispatch` hands to a handle, a
 load's handle or the active tool; the middle button or Space + left drag pans, a middle
-double-click fits, the right button or Esc cancels, a tapped Space triggers the tap action. A
-click with the select tool on a Geneva drive or rolling lever selects the element.
+double-click fits, the wheel zooms, the right button or Esc cancels, a tapped Space triggers the
+tap action. A click with the select tool on a Geneva drive or rolling lever selects the element.
 """
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from PySide6.QtCore import QEvent, QPointF, Qt
-from PySide6.QtGui import QAction, QKeyEvent, QMouseEvent
+from PySide6.QtGui import QAction, QKeyEvent, QMouseEvent, QWheelEvent
 
 from ..selection import ELEMENT
 from .events import CanvasEvent, Hit
 
 if TYPE_CHECKING:
-    from PySide6.QtCore import SignalInstance
-
-    from ..controller import SceneController
-    from .extras import CanvasExtras
     from .items import OverlayItem
-    from .toolbox import ToolBox
-    from .tools import ToolContext
+    from .view import CanvasView
 
 PICK_PX = 8.0                 # pick radius, screen pixels
 
 
-class CanvasInputMixin:
-    """Mouse and key handlers of :class:`~mechsketch.gui.canvas.view.CanvasView`.
+class CanvasInput:
+    """Mouse and key handling of one :class:`~mechsketch.gui.canvas.view.CanvasView`.
 
-    Not usable alone: it reads the view's controller, tool context, toolbox, extras, overlay item
-    and signals (annotated below), and calls its ``px``, ``world``, ``snap``, ``zoom_to_fit``,
-    ``element_at``, ``_highlight`` and ``_on_frame``; ``CanvasView`` sets and defines them all.
+    It owns the input state: :attr:`hover` (the pick under the idle cursor, which the view's
+    highlighting reads), the pan anchor, the Space key state, the tap action and whether a tool
+    is busy (dragging). What it uses of the view, and nothing else:
+
+    - positions: ``view.world(pos)``, ``view.px()``, ``view.snap(raw, hit)``, ``view.ctx.pick``;
+    - routing: ``view.toolbox`` (``.tool``, ``.name``), ``view.extras.handles`` and
+      ``view.extras.loads`` (``route``, ``cancel``);
+    - element clicks: ``view.element_at(pos, tol)``, ``view.controller`` (``selection``,
+      ``set_selection``);
+    - feedback: the signals ``view.cursorMoved``, ``view.dragStarted``, ``view.dragFinished``;
+      ``view.setCursor``, ``view.horizontalScrollBar()`` / ``verticalScrollBar()`` (pan),
+      ``view.zoom_to_fit()`` (middle double-click), ``view.zoom_by(factor)`` (wheel);
+    - passed in by the view: ``overlay`` (the tool overlay item), ``highlight()`` (redraw the
+      hover and selection highlights) and ``show_frame()`` (re-pose the items at the displayed
+      frame, after a drag).
+
+    The ``*_event`` methods take the view's Qt events; ``key_press``, ``key_release`` and
+    ``shortcut_override`` return False for an event they leave to ``QGraphicsView``.
     """
 
-    controller: SceneController
-    ctx: ToolContext
-    toolbox: ToolBox
-    extras: CanvasExtras
-    _overlay: OverlayItem
-    _hover: Hit | None
-    _pan_from: QPointF | None
-    _space: bool
-    _space_panned: bool
-    _tap_action: QAction | None
-    _busy: bool
-    cursorMoved: SignalInstance
-    dragStarted: SignalInstance
-    dragFinished: SignalInstance
+    def __init__(self, view: CanvasView, overlay: OverlayItem, highlight: Callable[[], None],
+                 show_frame: Callable[[], None]) -> None:
+        self._view = view
+        self._overlay = overlay
+        self._highlight = highlight
+        self._show_frame = show_frame
+        self.hover: Hit | None = None
+        self._pan_from: QPointF | None = None
+        self._space = False
+        self._space_panned = False
+        self.tap_action: QAction | None = None
+        self._busy = False
 
     # -- mouse ------------------------------------------------------------------------------------
     def _canvas_event(self, kind: str, e: QMouseEvent) -> CanvasEvent:
-        raw = self.world(e.position())
-        tol = PICK_PX * self.px()
-        hit = self.ctx.pick(raw, tol)
+        view = self._view
+        raw = view.world(e.position())
+        tol = PICK_PX * view.px()
+        hit = view.ctx.pick(raw, tol)
         names = {Qt.MouseButton.LeftButton: "left", Qt.MouseButton.RightButton: "right",
                  Qt.MouseButton.MiddleButton: "middle"}
         held = frozenset(n for b, n in names.items() if e.buttons() & b)
@@ -65,121 +75,139 @@ class CanvasInputMixin:
         modifiers = frozenset(n for m, n in ((Qt.KeyboardModifier.ShiftModifier, "shift"),
                                              (Qt.KeyboardModifier.ControlModifier, "ctrl"),
                                              (Qt.KeyboardModifier.AltModifier, "alt")) if mods & m)
-        return CanvasEvent(kind, self.snap(raw, hit), raw, names.get(e.button(), "none"), held, modifiers,
+        return CanvasEvent(kind, view.snap(raw, hit), raw, names.get(e.button(), "none"), held, modifiers,
                            hit, tol)
 
     def dispatch(self, ev: CanvasEvent) -> None:
-        """Hand ``ev`` to the active tool and show the result (public for tests and macros)."""
-        tool = self.extras.handles.route(ev, self.toolbox.tool)   # a press on a handle drags it
-        tool = self.extras.loads.route(ev, tool)                  # ... and on a load's handle
-        if tool is self.toolbox.tool and self._select_element(ev):
+        """Hand ``ev`` to the active tool and show the result."""
+        view = self._view
+        tool = view.extras.handles.route(ev, view.toolbox.tool)   # a press on a handle drags it
+        tool = view.extras.loads.route(ev, tool)                  # ... and on a load's handle
+        if tool is view.toolbox.tool and self._select_element(ev):
             return
         tool.handle(ev)
         self._overlay.set_overlay(tool.overlay())
         if tool.busy != self._busy:
             self._busy = tool.busy
-            (self.dragStarted if self._busy else self.dragFinished).emit()
+            (view.dragStarted if self._busy else view.dragFinished).emit()
             if not self._busy:
-                self._on_frame()
-        if ev.kind == "move" and not ev.buttons and ev.hit != self._hover:
-            self._hover = ev.hit
+                self._show_frame()
+        if ev.kind == "move" and not ev.buttons and ev.hit != self.hover:
+            self.hover = ev.hit
             self._highlight()
 
-    def mousePressEvent(self, e: QMouseEvent) -> None:  # noqa: N802 - Qt API
+    def press_event(self, e: QMouseEvent) -> None:
         if e.button() == Qt.MouseButton.MiddleButton or (e.button() == Qt.MouseButton.LeftButton and self._space):
             self._pan_from = e.position()
             self._space_panned = True
-            self.setCursor(Qt.CursorShape.ClosedHandCursor)
+            self._view.setCursor(Qt.CursorShape.ClosedHandCursor)
             return
         if e.button() == Qt.MouseButton.RightButton:
             self.cancel_tool()
             return
         self.dispatch(self._canvas_event("press", e))
 
-    def mouseMoveEvent(self, e: QMouseEvent) -> None:  # noqa: N802 - Qt API
+    def move_event(self, e: QMouseEvent) -> None:
         if self._pan_from is not None:
+            view = self._view
             d = e.position() - self._pan_from
             self._pan_from = e.position()
-            self.horizontalScrollBar().setValue(self.horizontalScrollBar().value() - round(d.x()))
-            self.verticalScrollBar().setValue(self.verticalScrollBar().value() - round(d.y()))
+            view.horizontalScrollBar().setValue(view.horizontalScrollBar().value() - round(d.x()))
+            view.verticalScrollBar().setValue(view.verticalScrollBar().value() - round(d.y()))
             return
         ev = self._canvas_event("move", e)
-        self.cursorMoved.emit(ev.pos[0], ev.pos[1])
+        self._view.cursorMoved.emit(ev.pos[0], ev.pos[1])
         self.dispatch(ev)
 
-    def mouseReleaseEvent(self, e: QMouseEvent) -> None:  # noqa: N802 - Qt API
+    def release_event(self, e: QMouseEvent) -> None:
         if self._pan_from is not None:
             self._pan_from = None
-            self.setCursor(Qt.CursorShape.OpenHandCursor if self._space else
-                           Qt.CursorShape.ArrowCursor if self.toolbox.name == "select" else Qt.CursorShape.CrossCursor)
+            self._view.setCursor(Qt.CursorShape.OpenHandCursor if self._space else
+                                 Qt.CursorShape.ArrowCursor if self._view.toolbox.name == "select"
+                                 else Qt.CursorShape.CrossCursor)
             return
         if e.button() == Qt.MouseButton.RightButton:
             return
         self.dispatch(self._canvas_event("release", e))
 
-    def mouseDoubleClickEvent(self, e: QMouseEvent) -> None:  # noqa: N802 - Qt API
+    def double_click_event(self, e: QMouseEvent) -> None:
         if e.button() == Qt.MouseButton.MiddleButton:
-            self.zoom_to_fit()
+            self._view.zoom_to_fit()
             return
         self.dispatch(self._canvas_event("double", e))
 
-    def leaveEvent(self, event) -> None:  # noqa: N802 - Qt API
-        if self._hover is not None:
-            self._hover = None
+    def wheel_event(self, e: QWheelEvent) -> None:
+        """Zoom about the cursor (the view's transformation anchor)."""
+        delta = e.angleDelta().y() or e.angleDelta().x()
+        if delta:
+            self._view.zoom_by(1.0015 ** delta)
+        e.accept()
+
+    def leave_event(self) -> None:
+        """The cursor left the view: nothing is hovered any more."""
+        if self.hover is not None:
+            self.hover = None
             self._highlight()
-        super().leaveEvent(event)
 
     def cancel_tool(self) -> None:
         """Abandon what the active tool is doing (a half-placed dyad, a drag)."""
-        tool = self.toolbox.tool
+        view = self._view
+        tool = view.toolbox.tool
         tool.cancel()
-        self.extras.handles.cancel()
-        self.extras.loads.cancel()
+        view.extras.handles.cancel()
+        view.extras.loads.cancel()
         self._overlay.set_overlay(tool.overlay())
         if self._busy:
             self._busy = False
-            self.dragFinished.emit()
-            self._on_frame()
+            view.dragFinished.emit()
+            self._show_frame()
 
     def _select_element(self, ev: CanvasEvent) -> bool:
         """With the select tool, a click on a Geneva drive or rolling lever (no joint or link
         under it) selects the element (Shift toggles it); True if the click was taken."""
-        if ev.kind != "press" or ev.button != "left" or ev.hit is not None or self.toolbox.name != "select":
+        view = self._view
+        if ev.kind != "press" or ev.button != "left" or ev.hit is not None or view.toolbox.name != "select":
             return False
-        eid = self.element_at(ev.raw, ev.tolerance)
+        eid = view.element_at(ev.raw, ev.tolerance)
         if eid is None:
             return False
         item = (eid, ELEMENT, eid)
-        sel = list(self.controller.selection) if ev.shift else []
+        sel = list(view.controller.selection) if ev.shift else []
         sel.remove(item) if item in sel else sel.append(item)
-        self.controller.set_selection(sel)
+        view.controller.set_selection(sel)
         return True
 
     # -- keys -------------------------------------------------------------------------------------
-    def event(self, e: QEvent) -> bool:  # noqa: D401 - Qt API
+    def shortcut_override(self, e: QEvent) -> bool:
+        """Keep Space and Esc for the canvas (not a window shortcut); True if ``e`` was taken."""
         if (e.type() == QEvent.Type.ShortcutOverride and isinstance(e, QKeyEvent)
                 and e.key() in (Qt.Key.Key_Space, Qt.Key.Key_Escape) and not e.modifiers()):
             e.accept()
             return True
-        return super().event(e)
+        return False
 
-    def keyPressEvent(self, e: QKeyEvent) -> None:  # noqa: N802 - Qt API
+    def key_press(self, e: QKeyEvent) -> bool:
+        """Esc cancels, Space starts a tap or a pan, a plain key goes to the tool (e.g. 3-9:
+        Geneva slots); True if ``e`` was taken."""
         if e.key() == Qt.Key.Key_Escape:
             self.cancel_tool()
         elif e.key() == Qt.Key.Key_Space:
             if not e.isAutoRepeat():
                 self._space, self._space_panned = True, False
-                self.setCursor(Qt.CursorShape.OpenHandCursor)
-        elif not e.modifiers() and self.toolbox.tool.key(e.text()):   # e.g. 3-9: Geneva slots
-            self._overlay.set_overlay(self.toolbox.tool.overlay())
+                self._view.setCursor(Qt.CursorShape.OpenHandCursor)
+        elif not e.modifiers() and self._view.toolbox.tool.key(e.text()):
+            self._overlay.set_overlay(self._view.toolbox.tool.overlay())
         else:
-            super().keyPressEvent(e)
+            return False
+        return True
 
-    def keyReleaseEvent(self, e: QKeyEvent) -> None:  # noqa: N802 - Qt API
+    def key_release(self, e: QKeyEvent) -> bool:
+        """Space released: a tap (no pan since the press) triggers the tap action; True if taken."""
         if e.key() == Qt.Key.Key_Space and not e.isAutoRepeat():
             self._space = False
-            self.setCursor(Qt.CursorShape.ArrowCursor if self.toolbox.name == "select" else Qt.CursorShape.CrossCursor)
-            if not self._space_panned and self._tap_action is not None:
-                self._tap_action.trigger()
-        else:
-            super().keyReleaseEvent(e)
+            self._view.setCursor(Qt.CursorShape.ArrowCursor if self._view.toolbox.name == "select"
+                                 else Qt.CursorShape.CrossCursor)
+            if not self._space_panned and self.tap_action is not None:
+                self.tap_action.trigger()
+            return True
+        return False
