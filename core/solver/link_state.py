@@ -233,27 +233,24 @@ class LinkState:
         """:meth:`vel_xy` of the point drawn at ``p0`` (``arm``: its :meth:`arm_xy`), computed
         once per state for the kernels that read it (an outer joint two groups hang on). The
         state's rates must be final (the kernels set them before any reader)."""
-        r = self._rates
-        if r is None:
-            r = self._rates = {}
-        e = r.get(p0)
-        if e is None:
-            e = r[p0] = [self.vel_xy(arm), None]
-        elif e[0] is None:
-            e[0] = self.vel_xy(arm)
-        return e[0]
+        return self._rate_at(p0, arm, 0)
 
     def acc_at(self, p0: complex, arm: Pair) -> Pair:
         """:meth:`acc_xy` of the point drawn at ``p0``, computed once per state (as :meth:`vel_at`)."""
+        return self._rate_at(p0, arm, 1)
+
+    def _rate_at(self, p0: complex, arm: Pair, k: int) -> Pair:
+        """Slot ``k`` (0: velocity, 1: acceleration) of the rates cache of the point at ``p0``."""
         r = self._rates
         if r is None:
             r = self._rates = {}
         e = r.get(p0)
         if e is None:
-            e = r[p0] = [None, self.acc_xy(arm)]
-        elif e[1] is None:
-            e[1] = self.acc_xy(arm)
-        return e[1]
+            e = r[p0] = [None, None]
+        v = e[k]
+        if v is None:
+            v = e[k] = self.vel_xy(arm) if k == 0 else self.acc_xy(arm)
+        return v
 
     def omega2(self):
         """ω² (rad²/s²): the kernel's, if it recorded it for this ω (:meth:`set_omega2`)."""
