@@ -39,7 +39,7 @@ import numpy as np  # noqa: E402
 
 from forces_reference import FloatKin, equilibrium  # noqa: E402
 from mechsketch.core import load_scene  # noqa: E402
-from mechsketch.core.analyses.forces import linkage_forces  # noqa: E402
+from mechsketch.core.analyses.forces.kinetostatics import linkage_forces  # noqa: E402
 from mechsketch.core.model.loads import LinkMass, Torque  # noqa: E402
 from mechsketch.core.solver.plan import compile_plan  # noqa: E402
 from mechsketch.resources import example_path  # noqa: E402

@@ -10,7 +10,7 @@ the analysis reports) is shown beside it. With matplotlib installed, a PNG of th
 written to benchmarks/out/.
 
 Then the relief search alone (issue 14): CPU time of the search now (only the segments that can
-reach the disc, windows of both outlines in one call; geneva_relief.py) against the first version
+reach the disc, windows of both outlines in one call; geneva/relief.py) against the first version
 (every segment, one candidate after another; tests/core/geneva_relief_reference.py), interleaved,
 best of 15, for z = 3 … 24; the difference of the exact and touch radii from the first version's,
 whether the drawn radius is the same, and the error of both against a dense reference (V on
@@ -28,12 +28,12 @@ from pathlib import Path
 
 import numpy as np
 
-from mechsketch.core.analyses.geneva_clearance import check_clearances
-from mechsketch.core.analyses.geneva_contact import contact
-from mechsketch.core.analyses.geneva_contact import slip_path_gauss
-from mechsketch.core.analyses.geneva_geometry import geometry as drive_geometry
-from mechsketch.core.analyses.geneva_kinematics import kinematics
-from mechsketch.core.analyses.geneva_geometry import relief, wheel_outline
+from mechsketch.core.analyses.geneva.clearance import check_clearances
+from mechsketch.core.analyses.geneva.contact import contact
+from mechsketch.core.analyses.geneva.contact import slip_path_gauss
+from mechsketch.core.analyses.geneva.geometry import geometry as drive_geometry
+from mechsketch.core.analyses.geneva.kinematics import kinematics
+from mechsketch.core.analyses.geneva.geometry import relief, wheel_outline
 from mechsketch.core.model.geneva import ContactModel, Drawing, Geneva, Load
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "core"))

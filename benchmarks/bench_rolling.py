@@ -31,9 +31,9 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent / "tests" / "core"))
 
 from mechsketch.core import load_scene  # noqa: E402
-from mechsketch.core.analyses.rolling_exact import exact_path  # noqa: E402
-from mechsketch.core.analyses.rolling_geometry import LeverGeometry, pose_state  # noqa: E402
-from mechsketch.core.analyses.rolling_synthesis import error_table, synthesize  # noqa: E402
+from mechsketch.core.analyses.rolling.exact import exact_path  # noqa: E402
+from mechsketch.core.analyses.rolling.geometry import LeverGeometry, pose_state  # noqa: E402
+from mechsketch.core.analyses.rolling.synthesis import error_table, synthesize  # noqa: E402
 from mechsketch.resources import example_path  # noqa: E402
 
 NOTES = {  # notes, section C, default scene: (literal slip, literal physical, corrected slip, corrected physical)
@@ -130,7 +130,7 @@ def main(argv=None) -> int:
             path = exact_path(geom, 0.0, el.stroke.end, tol)
             a, s = path.at(theta)
             best_t = min(best_t, time.perf_counter() - t0)
-        from mechsketch.core.analyses.rolling_slip import continuous_measures
+        from mechsketch.core.analyses.rolling.slip import continuous_measures
 
         cm = continuous_measures(path, 0.0, el.stroke.end)
         say(f"| {tol:.0e} | {len(path.theta) - 1} | {path.evaluations} | {best_t * 1e3:.2f} | "

@@ -30,7 +30,7 @@ import numpy as np
 from PySide6.QtCore import QObject, Qt, QTimer, Signal
 from PySide6.QtGui import QAction, QActionGroup, QKeySequence
 
-from .canvas.pose import dead_samples, input_value_text, map_frame, nearest_valid
+from .frames import dead_samples, input_value_text, map_frame, nearest_valid
 
 TICK_MS = 16
 SPEEDS = (0.1, 0.25, 0.5, 1.0, 2.0, 4.0)

@@ -28,7 +28,7 @@ from PySide6.QtWidgets import QHBoxLayout, QLabel, QProgressBar, QToolButton, QW
 from mechsketch.core.errors import ExportError
 from mechsketch.core.io.atomic import atomic_write
 
-from .canvas.pose import map_frame
+from .frames import map_frame
 
 #: frames per cycle at least / at most, and the playback rate aimed at (frames per second)
 MIN_FRAMES, MAX_FRAMES, FPS = 36, 200, 25.0

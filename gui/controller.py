@@ -25,7 +25,7 @@ from mechsketch.core.model.scene import Scene
 from mechsketch.core.solver.diagnostics import Diagnostics
 from mechsketch.core.workspace import Change, ElementResult, GenevaResult, LinkageResult, RollingResult, Workspace
 
-from .canvas.pose import map_frame
+from .frames import map_frame
 
 DEFAULT_SAMPLES = 360
 

@@ -12,7 +12,7 @@ from PySide6.QtWidgets import (QCheckBox, QComboBox, QDialog, QDialogButtonBox, 
                                QLineEdit, QWidget)
 
 from mechsketch.core.analyses.parts import DEFAULT_MIN_WEB
-from mechsketch.core.analyses.parts_build import DEFAULT_TOLERANCE, PartOptions
+from mechsketch.core.analyses.parts.build import DEFAULT_TOLERANCE, PartOptions
 
 
 @dataclass(frozen=True)

@@ -1,7 +1,7 @@
 """Export of any element's cut-ready parts (DXF or SVG) off the GUI thread, with progress and Cancel.
 
 :class:`DxfExporter` runs one :class:`ExportTask` at a time on its own ``QThreadPool``. A task
-works in two stages: it first builds the parts (:func:`~mechsketch.core.analyses.parts_build.
+works in two stages: it first builds the parts (:func:`~mechsketch.core.analyses.parts.build.
 element_parts`: a drive's exact geometry, a lever's synthesis, a linkage's solve for its slots and
 coupler curves), then - unless Cancel was pressed meanwhile - checks and writes them with the
 core's exporter (atomic: a temporary file, then a rename). Cancel therefore means "nothing is written"
@@ -21,7 +21,7 @@ from pathlib import Path
 from PySide6.QtCore import QObject, QRunnable, QThreadPool, Signal
 from PySide6.QtWidgets import QHBoxLayout, QLabel, QProgressBar, QToolButton, QWidget
 
-from mechsketch.core.analyses import parts_build
+from mechsketch.core.analyses.parts import build as parts_build
 from mechsketch.core.errors import MechsketchError
 from mechsketch.core.io.export_parts import export_parts
 from mechsketch.core.model.geneva import Geneva

@@ -388,7 +388,7 @@ class MainWindow(QMainWindow):
     def export_parts(self, fmt: str) -> bool:
         """The export dialog (element, parts, layout, tolerance, entities, minimum web), the file
         name, then the export off the GUI thread with progress and Cancel (True: started)."""
-        from mechsketch.core.analyses.parts_build import PartOptions, min_web_of, part_names
+        from mechsketch.core.analyses.parts.build import PartOptions, min_web_of, part_names
 
         from .export_worker import exportable
 

@@ -21,7 +21,7 @@ from PySide6.QtWidgets import QComboBox, QHBoxLayout, QLabel, QSizePolicy, QTool
 from mechsketch.core.model.drivers import input_text
 
 from .animation import SPEEDS, AnimationPlayer
-from .canvas.pose import dead_samples, walk_to
+from .frames import dead_samples, walk_to
 
 GROOVE = QColor("#e3e6eb")
 GROOVE_EDGE = QColor("#b8bec8")

@@ -19,11 +19,11 @@ from typing import TYPE_CHECKING
 from ..errors import MechsketchError, Problem, RequestError, StructureError
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ..analyses.parts_build import PartOptions
+    from ..analyses.parts.build import PartOptions
     from ..workspace import Workspace
 
 #: the option choices and default of ``export`` as analyses.parts (LAYOUTS), io.dxf_parts
-#: (ARC_STYLES) and analyses.parts_build (DEFAULT_TOLERANCE, mm) define them, repeated so that
+#: (ARC_STYLES) and analyses.parts.build (DEFAULT_TOLERANCE, mm) define them, repeated so that
 #: the parser imports none of those modules (tests/core/test_cli_imports.py checks they agree)
 LAYOUTS = ("assembled", "apart")
 ARC_STYLES = ("bulge", "entities")
@@ -59,7 +59,7 @@ def add_export_parser(sub) -> argparse.ArgumentParser:
 
 def options_of(args: argparse.Namespace) -> PartOptions:
     """The part options of parsed ``export`` arguments."""
-    from ..analyses.parts_build import PartOptions
+    from ..analyses.parts.build import PartOptions
 
     return PartOptions(tolerance=args.tolerance, min_web=args.min_web, boss_radius=args.boss_radius,
                        bore_diameter=args.bore_diameter, link_width=args.link_width, frame=args.frame,
@@ -74,7 +74,7 @@ def _plan(ws: Workspace, el):
 
 def run_export(ws: Workspace, args: argparse.Namespace) -> str:
     """Build, check and write the parts; returns the report."""
-    from ..analyses.parts_build import element_parts, min_web_of
+    from ..analyses.parts.build import element_parts, min_web_of
     from ..io.export_parts import export_parts
 
     scene = ws.scene
@@ -97,7 +97,7 @@ def drawing_problems(ws: Workspace) -> list[Problem]:
     """Elements that load but whose parts cannot be cut with the default options (the check the
     export runs): a drive that validates always exports."""
     from ..analyses.parts import require_checked
-    from ..analyses.parts_build import PartOptions, element_parts, min_web_of
+    from ..analyses.parts.build import PartOptions, element_parts, min_web_of
 
     out = []
     opts = PartOptions()

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..analyses.geneva_report import COLUMNS, analysis_table, summary
-from ..analyses.geneva_torque import crank_torque
+from ..analyses.geneva.report import COLUMNS, analysis_table, summary
+from ..analyses.geneva.torque import crank_torque
 from ..analyses.table import Table
 from ..workspace import Workspace
-from . import Analysis
+from .analysis import Analysis
 
 __all__ = ["COLUMNS", "analysis_table", "analyze", "analyze_forces", "summary"]  # the table and text live in analyses
 
@@ -24,7 +24,7 @@ def analyze(ws: Workspace, element_id: str) -> Analysis:
 
 def analyze_forces(ws: Workspace, element_id: str) -> Analysis:
     """:func:`analyze` plus the crank torque from the contact model (``driver.torque``, N·m,
-    counter-clockwise positive; see :mod:`mechsketch.core.analyses.geneva_torque`)."""
+    counter-clockwise positive; see :mod:`mechsketch.core.analyses.geneva.torque`)."""
     base = analyze(ws, element_id)
     res = ws.result(element_id)
     tq = crank_torque(res.element, res.contact)

@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..analyses.table import Table
-from . import Analysis
+from .analysis import Analysis
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..model.linkage import Linkage
@@ -69,8 +69,8 @@ def analyze(ws: Workspace, element_id: str) -> Analysis:
 def analyze_forces(ws: Workspace, element_id: str) -> Analysis:
     """:func:`analyze` plus the kinetostatics: the table gains ``driver.torque``, ``J.Fx J.Fy``
     per revolute joint and ``shaking.Fx shaking.Fy shaking.M`` (N, N·m; see
-    :mod:`mechsketch.core.analyses.forces_report`); the summary gains the forces summary."""
-    from ..analyses.forces_report import force_summary, force_table
+    :mod:`mechsketch.core.analyses.forces.report`); the summary gains the forces summary."""
+    from ..analyses.forces.report import force_summary, force_table
 
     base = analyze(ws, element_id)
     res = ws.forces(element_id)

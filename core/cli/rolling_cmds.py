@@ -6,7 +6,7 @@ for k53; Q in the slider frame), one row per stroke sample k = 0…N of the elem
 from __future__ import annotations
 
 from ..workspace import Workspace
-from . import Analysis
+from .analysis import Analysis
 
 
 def synthesize(ws: Workspace, element_id: str) -> Analysis:

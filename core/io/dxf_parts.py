@@ -20,7 +20,7 @@ import re
 
 import numpy as np
 
-from ..analyses.geneva_contour import Contour
+from ..analyses.contour import Contour
 from ..analyses.parts import Sheet, is_circle
 from ..errors import ExportError
 from .dxf import new_document, save_document

@@ -17,7 +17,8 @@ from typing import Any, Callable
 from mechsketch import resources  # a data package (example scenes, schemas): no code of ours above core
 
 from ..errors import Problem, SceneFormatError
-from ..model.scene import FORMAT, SCHEMA_VERSION, Scene, element_module
+from ..model.kinds import element_kind
+from ..model.scene import FORMAT, SCHEMA_VERSION, Scene
 from .atomic import atomic_write_text  # noqa: F401  (re-exported: others import it from here)
 from .schema_check import Check, Unsupported, compile_schema
 
@@ -222,16 +223,16 @@ def scene_from_dict(doc: Any, source: str = "scene") -> tuple[Scene | None, list
             problems.append(Problem(f"{path}.id", f"duplicate element id {eid!r} (also elements[{seen[eid]}])", eid))
             continue
         seen[eid] = k
-        module = element_module(ed["type"])
-        if module is None:
+        kind = element_kind(ed["type"])
+        if kind is None:
             problems.append(Problem(f"{path}.type", f"element type {ed['type']!r} is not supported by "
                                                     "this version of mechsketch", eid))
             continue
-        found = _schema_problems(module.SCHEMA, ed, path, eid)
+        found = _schema_problems(kind.schema, ed, path, eid)
         if found:
             problems.extend(found)
             continue
-        element, found = module.parse(ed, path)
+        element, found = kind.parse(ed, path)
         problems.extend(found)
         if element is not None:
             elements.append(element)
@@ -245,7 +246,7 @@ def element_problems(element: Any) -> list[Problem]:
     edit or a tool) if it were read from a file: its ``to_dict()`` goes through the same finite
     check, schema and parser. Empty list: the element is one a file may hold."""
     try:
-        data = element.to_dict()
+        data = dump_element(element)
     except (OverflowError, ValueError, TypeError, AttributeError) as exc:
         return [Problem("$", f"cannot be written to a scene file: {exc}", getattr(element, "id", None))]
     doc = {"format": FORMAT, "schema_version": SCHEMA_VERSION, "units": "mm", "elements": [data]}
@@ -341,9 +342,19 @@ def loads_scene(text: str, source: str = "scene") -> Scene:
     return scene
 
 
+def dump_element(element: Any) -> dict[str, Any]:
+    """An element's JSON object, written by its kind (:data:`~..model.kinds.ELEMENT_KINDS`)."""
+    kind = element_kind(element.type)
+    if kind is None:
+        raise TypeError(f"element {element.id!r} has type {element.type!r}, which no scene file can hold")
+    return kind.dump(element)
+
+
 def dumps_scene(scene: Scene) -> str:
     """The scene as JSON text (authored data only; nothing derived)."""
-    return json.dumps(scene.to_dict(), indent=2, allow_nan=False) + "\n"
+    doc = {"format": FORMAT, "schema_version": SCHEMA_VERSION, "units": "mm",
+           "elements": [dump_element(e) for e in scene.elements]}
+    return json.dumps(doc, indent=2, allow_nan=False) + "\n"
 
 
 def save_scene(scene: Scene, path: str | os.PathLike) -> None:

@@ -14,7 +14,7 @@ from xml.sax.saxutils import escape, quoteattr
 
 import numpy as np
 
-from ..analyses.geneva_contour import Contour
+from ..analyses.contour import Contour
 from ..analyses.parts import Sheet
 from .atomic import atomic_write_text
 

@@ -1,4 +1,4 @@
-"""Masses and loads of a linkage: what its kinetostatics (:mod:`mechsketch.core.analyses.forces`)
+"""Masses and loads of a linkage: what its kinetostatics (:mod:`mechsketch.core.analyses.forces.kinetostatics`)
 needs besides the kinematics. Immutable records, all optional in a scene file.
 
 Units: drawn positions and lengths in mm (the model's unit); masses kg, moments of inertia kg·m²,

@@ -5,7 +5,7 @@ there and the stroke runs over θ (rad, counter-clockwise positive). The lever c
 ``lever_circle`` (Π3п, rolling on the frame profile, pair D) and ``slider_circle`` (Π30, rolling on
 the slider profile, pair E), the pin ``pin`` of the rocker whose ground pivot is ``rocker_pivot``.
 The profiles themselves are derived (synthesised), never stored: see
-:mod:`mechsketch.core.analyses.rolling_synthesis`.
+:mod:`mechsketch.core.analyses.rolling.synthesis`.
 
 ``parse`` checks what the schema cannot: the rocker line meets the lever circle in the drawn pose,
 the chosen contact lies on the ray from the pivot and is neither the pin nor the pivot itself (both

@@ -1,13 +1,12 @@
 """A scene: the user's document, an ordered tuple of elements with unique ids.
 
 Element types (``linkage``, ``geneva``, ``rolling_lever``) are immutable records with an ``id``,
-a ``type`` and ``to_dict()``. Each type's parser is found through :data:`ELEMENT_MODULES`.
+a ``type`` and ``to_dict()``. Each type's schema, parser and writer are registered in
+:data:`~.kinds.ELEMENT_KINDS`.
 """
 from __future__ import annotations
 
-import importlib
 from dataclasses import dataclass, replace
-from types import ModuleType
 from typing import Any, Protocol
 
 from ..errors import UnknownIdError
@@ -17,33 +16,12 @@ FORMAT = "mechsketch.scene"
 #: a motion law; version 1 files are migrated on reading (core/io/scene_file.py)
 SCHEMA_VERSION = 2
 
-#: element type -> module with ``parse(data: dict, path: str) -> (element | None, [Problem])``
-#: and ``SCHEMA = "<file in mechsketch.resources.schema>"``.
-ELEMENT_MODULES: dict[str, str] = {
-    "linkage": "mechsketch.core.model.linkage_parse",
-    "geneva": "mechsketch.core.model.geneva",
-    "rolling_lever": "mechsketch.core.model.rolling_lever",
-}
-
 
 class Element(Protocol):
     id: str
     type: str
 
     def to_dict(self) -> dict[str, Any]: ...
-
-
-def element_module(type_name: str) -> ModuleType | None:
-    """The parser module of an element type, or None if this version does not know it."""
-    name = ELEMENT_MODULES.get(type_name)
-    if name is None:
-        return None
-    try:
-        return importlib.import_module(name)
-    except ModuleNotFoundError as exc:  # a type planned but not shipped in this build
-        if exc.name == name:
-            return None
-        raise
 
 
 @dataclass(frozen=True)

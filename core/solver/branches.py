@@ -17,15 +17,13 @@ of zero (relative to the group's size and the coordinates) is a touch. They are 
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .steps import StepPlan
 from .structure import MODAL_KINDS
 from .tolerances import BRANCH_REL
 
-if TYPE_CHECKING:  # pragma: no cover
-    from .plan import Plan
 
 REF_SAMPLES = 1440
 #: a sampled local minimum of gap/scale below this is refined
@@ -65,7 +63,7 @@ def _apart(a: float, b: float) -> bool:
     return abs(math.remainder(a - b, TWO_PI)) > 1e-7
 
 
-def _leaves_flipped(plan: "Plan", k: int, idx: list[int], known: dict[str, np.ndarray],
+def _leaves_flipped(plan: StepPlan, k: int, idx: list[int], known: dict[str, np.ndarray],
                     others: list[float]) -> bool:
     """The drawn pose of step ``k``'s group is itself a branch point: both assembly modes pass
     through it and it does not say which one the motion takes. Take the branch on which the inner
@@ -90,7 +88,7 @@ def _leaves_flipped(plan: "Plan", k: int, idx: list[int], known: dict[str, np.nd
     return moved[True] < moved[False]
 
 
-def find_branch_points(plan: "Plan", steps, known: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+def find_branch_points(plan: StepPlan, steps, known: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
     """Add to ``known`` the branch-point offsets (rad, sorted, in [0, 2π]) of the groups of
     ``steps`` (indices in solving order; a step they depend on is solved with the offsets
     ``known`` has for it, none if it has none), keyed by group name.
@@ -112,7 +110,7 @@ def find_branch_points(plan: "Plan", steps, known: dict[str, np.ndarray]) -> dic
     delta = np.arange(REF_SAMPLES) * (TWO_PI / REF_SAMPLES)
     inputs = lp.theta0 + sg * delta
     step_h = TWO_PI / REF_SAMPLES
-    run = lp._needed([link for k in todo for link in lp.steps[k].needs]) | todo
+    run = lp.needed([link for k in todo for link in lp.steps[k].needs]) | todo
     settled = getattr(lp, REF_STATES, None)
     if settled is None:
         settled = {}
@@ -149,7 +147,7 @@ def find_branch_points(plan: "Plan", steps, known: dict[str, np.ndarray]) -> dic
     return known
 
 
-def keep_reference_states(old: "Plan", new: "Plan", links: set[str]) -> None:
+def keep_reference_states(old: StepPlan, new: StepPlan, links: set[str]) -> None:
     """Start the branch-point search of ``new`` — the linkage of ``old`` after a drag, with the
     same driver pivot, drawn input and groups — from ``old``'s states at the reference inputs of
     ``links`` (links solved by groups the drag did not reach, whose branch offsets ``new`` keeps:
@@ -164,7 +162,7 @@ def keep_reference_states(old: "Plan", new: "Plan", links: set[str]) -> None:
         setattr(local, REF_STATES, kept)
 
 
-def _search_group(lp: "Plan", k: int, out, delta: np.ndarray, step_h: float,
+def _search_group(lp: StepPlan, k: int, out, delta: np.ndarray, step_h: float,
                   known: dict[str, np.ndarray], nbr: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
     """The sorted branch offsets of step ``k`` of the local plan ``lp`` from its output ``out``
     at the reference offsets ``delta`` (rad, (REF_SAMPLES,)) in its drawn mode: sampled local

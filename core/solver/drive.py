@@ -22,7 +22,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
-from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -32,12 +31,11 @@ from ..model.linkage import JointKind, Link, Linkage
 from . import kernels as K
 from .branches import CANDIDATE, GOLDEN_STEPS, REF_SAMPLES, golden_min
 from .solution import _axis, _c
+from .steps import StepPlan
 from .stroke_kernels import Cylinder, Stroke, _bar, rrp_var, rrr_var
 from .structure import MODAL_KINDS, Group, GroupKind, _split, decompose, fixed_links, joint_count, mobility
 from .tolerances import TOUCH_REL
 
-if TYPE_CHECKING:  # pragma: no cover
-    from .plan import Plan
 
 
 def _check_mobility(linkage: Linkage) -> None:
@@ -190,7 +188,7 @@ class CylinderDrive(CrankDrive):
         self.current = Stroke(inputs, rate, accel)
 
     def compile_step(self, linkage: Linkage, g: Group) -> tuple | None:
-        """(run, scale, coord) of the group V is in (see :class:`~.plan.Step`), else None."""
+        """(run, scale, coord) of the group V is in (see :class:`~.steps.Step`), else None."""
         if self.link not in (g.link_i, g.link_j):
             return None
         at = {j.id: _c(j.at) for j in linkage.joints}
@@ -278,7 +276,7 @@ def linear_range(drive: CrankDrive) -> tuple[float, float]:
     return min(lo, drive.input0), max(hi, drive.input0)
 
 
-def find_linear_branch_points(plan: "Plan", steps, known: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+def find_linear_branch_points(plan: StepPlan, steps, known: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
     """Add to ``known`` the inputs (mm, sorted) where the groups of ``steps`` of a plan driven by an
     actuator touch their toggle inside the searched range (:func:`linear_range`): local minima of
     the assembly margin refined by golden-section search, within rounding of zero."""

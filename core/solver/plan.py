@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field, replace
-from typing import Callable, Iterable
+from typing import Iterable
 
 import numpy as np
 
@@ -21,21 +21,11 @@ from .branches import find_branch_points, flip_factor
 from .drive import CrankDrive, find_linear_branch_points, linear_flip, make_drive
 from .motion_law import cycle
 from .solution import Solution, _axis, _c, unwrap_finite
+from .steps import Step
 from .structure import Group, GroupKind, decompose, mobility
 from .tolerances import SINGULAR_REL, TOGGLE_COND, TOUCH_REL
 
 __all__ = ["TOGGLE_COND", "TOUCH_REL", "Plan", "Solution", "Step", "compile_plan", "unwrap_finite"]
-
-
-@dataclass
-class Step:
-    """A compiled group: its record, the links it needs known, and its kernel call."""
-
-    group: Group
-    needs: tuple[str, str]
-    run: Callable[[dict, int, "np.ndarray | None"], K.DyadOut]
-    scale: float = 1.0   # length scale of the group (mm), for branch-point tolerances
-    coord: float = 0.0   # largest drawn coordinate magnitude of the group and its known links, mm
 
 
 @dataclass
@@ -86,7 +76,7 @@ class Plan:
         """+1 if the driver turns counter-clockwise, else −1."""
         return 1.0 if self.omega >= 0 else -1.0
 
-    def _needed(self, links: Iterable[str]) -> set[int]:
+    def needed(self, links: Iterable[str]) -> set[int]:
         need: set[int] = set()
         stack = list(links)
         while stack:
@@ -98,7 +88,7 @@ class Plan:
 
     def closure(self, k: int) -> list[int]:
         """Step ``k`` and every step it depends on, in solving order."""
-        return sorted(self._needed(self.steps[k].needs) | {k})
+        return sorted(self.needed(self.steps[k].needs) | {k})
 
     def steps_for(self, joints: Iterable[str] | None) -> list[int]:
         """Indices of the steps needed to know ``joints`` (all steps if None)."""
@@ -109,7 +99,7 @@ class Plan:
             if j not in self.reporter:
                 raise UnknownIdError(f"linkage {self.linkage.id!r} has no joint {j!r}")
             links.append(self.reporter[j])
-        return sorted(self._needed(links))
+        return sorted(self.needed(links))
 
     def branch_points(self, steps: Iterable[int] | None = None) -> dict[str, np.ndarray]:
         """Per group, the input offsets (rad from the drawn pose, driver direction) where the

@@ -9,18 +9,16 @@ that a joint's position is computed once per solve however often it is read.
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..errors import RequestError, UnknownIdError
 from ..model.linkage import JointKind, Linkage
 from . import kernels as K
+from .steps import StepPlan
 from .structure import MODAL_KINDS, Group, GroupKind
 from .tolerances import RATE_REL
 
-if TYPE_CHECKING:  # pragma: no cover
-    from .plan import Plan
 
 __all__ = ["Solution", "unwrap_finite"]
 
@@ -71,7 +69,7 @@ class Solution:
     Samples where some evaluated group cannot be assembled are NaN and ``valid`` is False there.
     """
 
-    def __init__(self, plan: Plan, inputs, order, states, outs, valid, omega, t, elapsed, alpha=0.0,
+    def __init__(self, plan: StepPlan, inputs, order, states, outs, valid, omega, t, elapsed, alpha=0.0,
                  all_valid: bool | None = None):
         self.plan = plan
         #: (N,) the driver's input at each sample: the crank angle (rad) or the actuator's length

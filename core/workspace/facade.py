@@ -8,20 +8,33 @@ loads no analysis a command does not use (issue 14).
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any, Iterable
+from typing import TYPE_CHECKING, Any, Iterable, Protocol
 
 from ..errors import RequestError
+from ..model.edits import Edit
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ..analyses.forces import ForceResult
-    from ..analyses.geneva_contact import GenevaContact
-    from ..analyses.geneva_geometry import GenevaGeometry
-    from ..analyses.geneva_kinematics import GenevaKinematics
-    from ..analyses.rolling_synthesis import RollingSynthesis
+    from ..analyses.forces.kinetostatics import ForceResult
+    from ..analyses.geneva.contact import GenevaContact
+    from ..analyses.geneva.geometry import GenevaGeometry
+    from ..analyses.geneva.kinematics import GenevaKinematics
+    from ..analyses.rolling.synthesis import RollingSynthesis
     from ..solver.dimensions import Dimension
     from ..solver.plan import Plan, Solution
     from .results import ElementResult
-    from .workspace import Workspace
+
+
+class Host(Protocol):
+    """What a view asks of its workspace (:class:`~.workspace.Workspace` is one; the workspace
+    imports this module, so the view names the methods it needs instead of the class)."""
+
+    def element(self, element_id: str) -> Any: ...
+    def apply(self, edit: Edit) -> Edit: ...
+    def result(self, element_id: str) -> "ElementResult | None": ...
+    def plan(self, element_id: str) -> "Plan": ...
+    def solve(self, element_id: str, samples: int | None = None, order: int = 2,
+              joints: Iterable[str] | None = None) -> "Solution": ...
+    def forces(self, element_id: str, samples: int | None = None) -> "ForceResult": ...
 
 
 class ElementView:
@@ -30,7 +43,7 @@ class ElementView:
     Attribute reads (``view.joints``, ``view.slots``...) go to the element's current record.
     """
 
-    def __init__(self, workspace: "Workspace", element_id: str) -> None:
+    def __init__(self, workspace: Host, element_id: str) -> None:
         workspace.element(element_id)  # UnknownIdError naming the scene's ids
         self._ws = workspace
         self._id = element_id
@@ -101,21 +114,21 @@ class ElementView:
     # -- Geneva drives --------------------------------------------------------------------
     def kinematics(self, samples: int | None = None) -> GenevaKinematics:
         """Wheel angle, ω, α and jerk over one crank revolution (arrays (N,))."""
-        from ..analyses.geneva_kinematics import kinematics
+        from ..analyses.geneva.kinematics import kinematics
 
         rec = self._need("geneva")
         return kinematics(rec, samples or rec.samples)
 
     def contact(self, samples: int | None = None, model: Any = None) -> GenevaContact:
         """Roller/slot contact and wear over one crank revolution (arrays (N,))."""
-        from ..analyses.geneva_contact import contact
+        from ..analyses.geneva.contact import contact
 
         rec = self._need("geneva")
         return contact(rec, samples or rec.samples, model or rec.model)
 
     def geometry(self) -> GenevaGeometry:
         """The exact wheel, locking disc, crank arm and roller outlines (mm)."""
-        from ..analyses.geneva_geometry import geometry
+        from ..analyses.geneva.geometry import geometry
 
         return geometry(self._need("geneva"))
 
@@ -123,6 +136,6 @@ class ElementView:
     def synthesize(self, method: str | None = None, points: int | None = None, measures: bool = True
                    ) -> RollingSynthesis:
         """The rolling profiles (centrodes) with their slip measures."""
-        from ..analyses.rolling_synthesis import synthesize
+        from ..analyses.rolling.synthesis import synthesize
 
         return synthesize(self._need("rolling_lever"), method=method, points=points, measures=measures)

@@ -40,11 +40,11 @@ from .budget import check_request
 if TYPE_CHECKING:  # pragma: no cover  (imported by the solve of their element type: issue 14)
     from ..model.geneva import Geneva
     from ..model.rolling_lever import RollingLever
-    from ..analyses.geneva_contact import GenevaContact
-    from ..analyses.geneva_geometry import GenevaGeometry
-    from ..analyses.geneva_kinematics import GenevaKinematics
-    from ..analyses.rolling_slip import SlipSamples
-    from ..analyses.rolling_synthesis import RollingSynthesis
+    from ..analyses.geneva.contact import GenevaContact
+    from ..analyses.geneva.geometry import GenevaGeometry
+    from ..analyses.geneva.kinematics import GenevaKinematics
+    from ..analyses.rolling.slip import SlipSamples
+    from ..analyses.rolling.synthesis import RollingSynthesis
 
 #: frames of a rolling lever's animation cycle: 2·points, at least this many
 ROLLING_MIN_FRAMES = 360
@@ -179,7 +179,7 @@ class GenevaResult(_Result):
         ``error``, ``exception`` or ``n_frames``; its time is added to ``seconds``."""
         if not self._geometry_pending:
             return
-        from ..analyses.geneva_geometry import geometry
+        from ..analyses.geneva.geometry import geometry
 
         self._geometry_pending = False
         t0 = time.perf_counter()
@@ -234,7 +234,7 @@ class GenevaResult(_Result):
             if self.kinematics is None or self.contact is None:
                 self._summary = f"geneva {self.element.id!r}: {self.error}"
             else:
-                from ..analyses.geneva_report import summary as geneva_summary
+                from ..analyses.geneva.report import summary as geneva_summary
 
                 self._summary = geneva_summary(self.element, self.kinematics, self.contact, self.geometry)
         return self._summary
@@ -244,8 +244,8 @@ def solve_geneva(element: Geneva, samples: int | None = None) -> GenevaResult:
     """Kinematics and contact/wear of ``element`` at ``samples`` points (default the element's)
     and the per-frame rotations; the drawable geometry is built when first read. Never raises
     for a bad drive."""
-    from ..analyses.geneva_contact import contact
-    from ..analyses.geneva_kinematics import kinematics
+    from ..analyses.geneva.contact import contact
+    from ..analyses.geneva.kinematics import kinematics
 
     t0 = time.perf_counter()
     res = GenevaResult(element)
@@ -346,12 +346,14 @@ class RollingResult(_Result):
         """What ``mechsketch synthesize SCENE --element ID --summary`` prints."""
         if self.synthesis is None:
             return f"rolling lever {self.element.id!r}: {self.error}"
-        return self.synthesis.summary()
+        from ..analyses.rolling.report import summary as rolling_summary
+
+        return rolling_summary(self.synthesis)
 
 
 def _rolling_frames(res: RollingSynthesis, n: int) -> RollingFrames:
     """The animation cycle (see :class:`RollingFrames`)."""
-    from ..analyses.rolling_geometry import pose_state
+    from ..analyses.rolling.geometry import pose_state
 
     k = np.arange(n, dtype=float)
     drive = res.drive
@@ -380,7 +382,7 @@ def solve_rolling(element: RollingLever, measures: bool = True) -> RollingResult
     """Synthesise ``element`` (with the slip measures unless ``measures`` is False: a drag preview
     re-synthesises in about 5 ms, the measures take some 50 ms more) and precompute its frames
     and curves."""
-    from ..analyses.rolling_synthesis import synthesize
+    from ..analyses.rolling.synthesis import synthesize
 
     t0 = time.perf_counter()
     out = RollingResult(element)

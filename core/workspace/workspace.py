@@ -38,7 +38,7 @@ from .facade import ElementView
 from .results import ElementResult, LinkageResult, RollingResult, solve_element, solve_linkage
 
 if TYPE_CHECKING:  # pragma: no cover  (the forces are imported by forces(): issue 14)
-    from ..analyses.forces import ForceResult
+    from ..analyses.forces.kinetostatics import ForceResult
 
 #: results kept by value beyond the current ones (undo/redo, pre-checks of edits, requests)
 CACHE_SIZE = 32
@@ -433,7 +433,7 @@ class Workspace:
         """The kinetostatics of a linkage over one driver revolution (computed when first asked,
         then cached by element value and N): driving torque, joint reactions, shaking force and
         moment, the power balance, and the result with joint friction when the scene has any
-        (see :mod:`mechsketch.core.analyses.forces`; SI units). ``samples`` as for :meth:`solve`.
+        (see :mod:`mechsketch.core.analyses.forces.kinetostatics`; SI units). ``samples`` as for :meth:`solve`.
         Raises the core's error when the linkage cannot be solved."""
         el = self.element(element_id)
         if not isinstance(el, Linkage):
@@ -444,7 +444,7 @@ class Workspace:
             self._forces.move_to_end(key)
             return self._forces[key]
         sol = self.solve(element_id, samples=n, order=2)
-        from ..analyses.forces import linkage_forces
+        from ..analyses.forces.kinetostatics import linkage_forces
 
         res = linkage_forces(sol.plan, sol)
         self.stats["forces"] += 1

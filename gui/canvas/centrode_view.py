@@ -24,7 +24,7 @@ from mechsketch.core.io.table import write_csv
 from mechsketch.core.model.linkage import Linkage
 
 from .items import _pen, _px, _text
-from .pose import map_frame
+from ..frames import map_frame
 
 FIXED = QColor("#c2255c")
 MOVING = QColor("#1971c2")

@@ -18,12 +18,13 @@ import numpy as np
 from PySide6.QtGui import QBrush, QColor, QPainter
 from PySide6.QtWidgets import QStyleOptionGraphicsItem, QWidget
 
-from mechsketch.core.analyses.geneva_torque import crank_torque
+from mechsketch.core.analyses.geneva.torque import crank_torque
 from mechsketch.core.errors import MechsketchError
 from mechsketch.core.model.geneva import Geneva
 
+from .arrows import arrow, nice_scale
 from .items import INK, _Item, _pen, _px, _rect_of, _text
-from .pose import map_frame
+from ..frames import map_frame
 
 REACTION = QColor("#e8590c")
 TORQUE = QColor("#a61e4d")
@@ -47,8 +48,6 @@ class ForcesItem(_Item):
         self._bounds(_rect_of(points))
 
     def paint(self, painter: QPainter, option: QStyleOptionGraphicsItem, widget: QWidget | None = None) -> None:
-        from .overlays import arrow   # overlays imports this module: take its helper when painting
-
         px = _px(painter)
         painter.setRenderHint(QPainter.RenderHint.Antialiasing, True)
         for r in self.records:
@@ -70,8 +69,6 @@ def _size(pose) -> float:
 
 def force_records(overlays) -> tuple[list[dict[str, Any]], list]:
     """The forces overlay at the displayed frame (``overlays`` an :class:`OverlaySet`)."""
-    from .overlays import nice_scale   # overlays imports this module
-
     ctl = overlays.controller
     records: list[dict[str, Any]] = []
     points: list = []

@@ -1,6 +1,6 @@
 """Canvas items of a Geneva drive, drawn from the core's exact geometry and animated by transforms.
 
-:func:`contour_path` turns a core :class:`~mechsketch.core.analyses.geneva_contour.Contour` (lines
+:func:`contour_path` turns a core :class:`~mechsketch.core.analyses.contour.Contour` (lines
 and arcs in bulge form) into a QPainterPath whose arcs are curves (:func:`arc_to`), never a dense
 polyline.
 :class:`GenevaItem` holds one path item per part, built once per solve in the part's own frame:
@@ -19,7 +19,7 @@ from PySide6.QtCore import QPointF, QRectF, Qt
 from PySide6.QtGui import QBrush, QColor, QPainter, QPainterPath, QPainterPathStroker, QPen, QTransform
 from PySide6.QtWidgets import QGraphicsItem, QGraphicsPathItem, QStyleOptionGraphicsItem, QWidget
 
-from mechsketch.core.analyses.geneva_contour import Contour, Part
+from mechsketch.core.analyses.contour import Contour, Part
 
 from mechsketch.core.workspace import GenevaResult
 from .items import INK, MUTED, NOTE, SELECT, _pen, _px, _text

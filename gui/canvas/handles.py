@@ -32,7 +32,7 @@ from mechsketch.core.model.rolling_lever import parse as parse_rolling
 from ..selection import ELEMENT
 from .events import XY, CanvasEvent
 from .items import Overlay
-from .pose import map_frame
+from ..frames import map_frame
 
 #: tools under which handles can be dragged
 HANDLE_TOOLS = ("select", "geneva", "rolling")

@@ -31,8 +31,8 @@ from mechsketch.core.model.linkage import Linkage
 from mechsketch.core.model.loads import End, PointForce
 
 from .events import XY, CanvasEvent
+from .arrows import arrow
 from .items import Overlay, _Item, _pen, _px, _rect_of, _text
-from .overlays import arrow
 from .pose import ElementPose, to_drawn
 
 LOAD = QColor("#c2255c")

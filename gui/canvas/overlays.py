@@ -20,17 +20,18 @@ from typing import Any
 
 import numpy as np
 from PySide6.QtCore import QPointF, QRectF, Qt
-from PySide6.QtGui import QBrush, QColor, QPainter, QPainterPath, QPolygonF
+from PySide6.QtGui import QBrush, QColor, QPainter, QPainterPath
 from PySide6.QtWidgets import QStyleOptionGraphicsItem, QWidget
 
 from mechsketch.core.analyses.centrodes import linkage_centrodes
 from mechsketch.core.errors import MechsketchError
 from mechsketch.core.model.geneva import Geneva
 
+from .arrows import arrow, nice_scale
 from .centrode_view import CentrodeView
 from .force_overlay import ForcesItem, force_records
 from .items import BAD, INK, MUTED, _Item, _pen, _px, _rect_of, _text
-from .pose import map_frame
+from ..frames import map_frame
 
 HANDLE = QColor("#0b7285")
 VEL = QColor("#2b8a3e")
@@ -41,31 +42,6 @@ FORCE = QColor("#d9480f")
 #: a vector's longest arrow over the cycle is about this fraction of the linkage's size
 VECTOR_FRACTION = 0.3
 MU_RANGE = (40.0, 140.0)   # degrees: a transmission angle outside is drawn in red
-
-
-def nice_scale(value: float) -> float:
-    """The 1-2-5 number nearest above ``value`` (> 0)."""
-    if not (value > 0 and math.isfinite(value)):
-        return 1.0
-    e = math.floor(math.log10(value))
-    for m in (1, 2, 5, 10):
-        if m * 10.0 ** e >= value * (1 - 1e-12):
-            return m * 10.0 ** e
-    return 10.0 ** (e + 1)  # pragma: no cover
-
-
-def arrow(painter: QPainter, a: tuple[float, float], b: tuple[float, float], px: float) -> None:
-    """A line a -> b with an arrowhead of constant screen size."""
-    pa, pb = QPointF(*a), QPointF(*b)
-    painter.drawLine(pa, pb)
-    d = complex(b[0] - a[0], b[1] - a[1])
-    if abs(d) < 1e-12:
-        return
-    u = d / abs(d)
-    h = 9 * px
-    tip = complex(*b)
-    left, right = tip - h * u * complex(math.cos(0.4), math.sin(0.4)), tip - h * u * complex(math.cos(0.4), -math.sin(0.4))
-    painter.drawPolygon(QPolygonF([pb, QPointF(left.real, left.imag), QPointF(right.real, right.imag)]))
 
 
 class HandlesItem(_Item):

@@ -13,8 +13,8 @@ from __future__ import annotations
 
 import math
 
-from mechsketch.core.analyses.rolling_exact import working_range
-from mechsketch.core.analyses.rolling_geometry import LeverGeometry
+from mechsketch.core.analyses.rolling.exact import working_range
+from mechsketch.core.analyses.rolling.geometry import LeverGeometry
 from mechsketch.core.errors import MechsketchError
 from mechsketch.core.model.rolling_lever import Circle, RollingLever, Stroke, parse
 

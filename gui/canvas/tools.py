@@ -30,7 +30,7 @@ from .rolling_tool import RollingTool
 from .slider_tools import PRPTool, RPPTool
 from .events import XY, CanvasEvent
 from .items import Overlay
-from .pose import walk_to
+from ..frames import walk_to
 from .tool_base import DRAG_START, Tool, ToolContext
 
 __all__ = ["TOOLS", "CouplerPointTool", "CrankTool", "DeleteTool", "GroundPivotTool", "MeasureTool",

@@ -32,7 +32,7 @@ from mechsketch.core.model.linkage import JointKind, Linkage
 from mechsketch.core.workspace import GenevaResult
 
 from ..selection import ELEMENT
-from .pose import map_frame
+from ..frames import map_frame
 from .events import XY, CanvasEvent, Hit
 from .extras import CanvasExtras
 from .geneva_items import GenevaItem

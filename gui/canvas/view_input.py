@@ -11,17 +11,39 @@ tap action. A click with the select tool on a Geneva drive or rolling lever sele
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import TYPE_CHECKING
+from typing import Any, Protocol
 
-from PySide6.QtCore import QEvent, QPointF, Qt
-from PySide6.QtGui import QAction, QKeyEvent, QMouseEvent, QWheelEvent
+from PySide6.QtCore import QEvent, QPointF, Qt, SignalInstance
+from PySide6.QtGui import QAction, QCursor, QKeyEvent, QMouseEvent, QWheelEvent
+from PySide6.QtWidgets import QScrollBar
 
 from ..selection import ELEMENT
-from .events import CanvasEvent, Hit
+from .events import XY, CanvasEvent, Hit
+from .items import OverlayItem
 
-if TYPE_CHECKING:
-    from .items import OverlayItem
-    from .view import CanvasView
+
+class InputHost(Protocol):
+    """What :class:`CanvasInput` uses of its view (the canvas view imports this module, so the
+    input names the view's members instead of importing its class)."""
+
+    ctx: Any                 # the tool context: ``ctx.pick(world, tol)``
+    toolbox: Any             # ``.tool``, ``.name``
+    extras: Any              # ``.handles``, ``.loads``: ``route``, ``cancel``
+    controller: Any          # ``selection``, ``set_selection``
+    cursorMoved: SignalInstance
+    dragStarted: SignalInstance
+    dragFinished: SignalInstance
+
+    def world(self, pos: QPointF) -> XY: ...
+    def px(self) -> float: ...
+    def snap(self, raw: XY, hit: Hit | None) -> XY: ...
+    def element_at(self, pos: XY, tol: float) -> str | None: ...
+    def setCursor(self, cursor: QCursor | Qt.CursorShape) -> None: ...
+    def horizontalScrollBar(self) -> QScrollBar: ...
+    def verticalScrollBar(self) -> QScrollBar: ...
+    def zoom_to_fit(self) -> None: ...
+    def zoom_by(self, factor: float) -> None: ...
+
 
 PICK_PX = 8.0                 # pick radius, screen pixels
 
@@ -49,7 +71,7 @@ class CanvasInput:
     ``shortcut_override`` return False for an event they leave to ``QGraphicsView``.
     """
 
-    def __init__(self, view: CanvasView, overlay: OverlayItem, highlight: Callable[[], None],
+    def __init__(self, view: InputHost, overlay: OverlayItem, highlight: Callable[[], None],
                  show_frame: Callable[[], None]) -> None:
         self._view = view
         self._overlay = overlay

@@ -19,15 +19,15 @@ from __future__ import annotations
 
 import numpy as np
 
-from mechsketch.core.analyses.geneva_report import analysis_table
-from mechsketch.core.analyses.geneva_torque import crank_torque
+from mechsketch.core.analyses.geneva.report import analysis_table
+from mechsketch.core.analyses.geneva.torque import crank_torque
 from mechsketch.core.analyses.table import Table
 from mechsketch.core.workspace import GenevaResult, RollingResult
 
-from ..canvas.pose import map_frame
+from ..frames import map_frame
 from ..controller import SceneController
 from ..selection import element_target
-from .plots import PlotData, Series
+from .plot_series import PlotData, Series
 
 GENEVA_ROWS = (("angle", "wheel angle (°)"), ("omega", "ω (rad/s)"), ("alpha", "α (rad/s²)"),
                ("jerk", "jerk (rad/s³)"), ("force", "Rn (N)"), ("slip", "slip path (µm)"),

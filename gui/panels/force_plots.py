@@ -19,7 +19,7 @@ import numpy as np
 from mechsketch.core import MechsketchError
 from mechsketch.core.model.linkage import Linkage
 
-from .plots import PLOTS, PlotData, Series
+from .plot_series import PLOTS, PlotData, Series
 
 FORCE_ROWS = (("torque", "driving torque (N·m)"), ("reaction", "joint force (N)"))
 

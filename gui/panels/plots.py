@@ -4,7 +4,7 @@ Four stacked plots sharing the x axis (input angle, °): position (joint x, y in
 velocity (vx, vy, |v| in mm/s; ω in rad/s), acceleration (ax, ay, |a| in mm/s²; ε in rad/s²) and the
 transmission angle μ (°) of every RRR group. A selected Geneva drive or rolling lever (or the only
 element of a scene without linkages) brings its own rows, x axis and table, built in
-:mod:`.element_plots`. Plots read the controller's precomputed solution;
+:mod:`.element_plots`; the records they fill are in :mod:`.plot_series`. Plots read the controller's precomputed solution;
 NaN (a pose that cannot be assembled) breaks the line (``connect="finite"``). A vertical cursor
 follows the animation frame, and a click on a plot moves the frame there. The plotted data
 exports as CSV (a core :class:`Table`) and the plots as a PNG.
@@ -12,9 +12,7 @@ exports as CSV (a core :class:`Table`) and the plots as a PNG.
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable
 
 import numpy as np
 import pyqtgraph as pg
@@ -24,63 +22,17 @@ from PySide6.QtWidgets import QHBoxLayout, QLabel, QToolButton, QVBoxLayout, QWi
 
 from mechsketch.core import ExportError, MechsketchError
 from mechsketch.core.io.atomic import atomic_write
-from mechsketch.core.io.table import Table, write_csv
+from mechsketch.core.io.table import write_csv
 from mechsketch.core.model.linkage import Linkage
 
 from ..controller import SceneController
+from .element_plots import element_plot_data
+from .force_plots import add_force_series
 from .lazy import LazyRefresh
+from .plot_series import COLORS, PLOTS, PlotData, Series
 
 pg.setConfigOptions(antialias=True, background="w", foreground="k")   # the app's look (set on import: the
 # main window imports this module after its first frame, issue 14)
-
-PLOTS = (("position", "position"), ("velocity", "velocity"), ("acceleration", "acceleration"),
-         ("transmission", "transmission angle μ (°)"))
-COLORS = ("#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b")
-
-
-@dataclass
-class Series:
-    """One plotted curve: ``plot`` name, curve ``name``, ``unit`` and (N,) values; ``x`` its own
-    x values (M,) when it is not sampled at the plot data's x (e.g. α with both sides of a jump)."""
-
-    plot: str
-    name: str
-    unit: str
-    y: np.ndarray
-    x: np.ndarray | None = None
-
-
-@dataclass
-class PlotData:
-    """Everything the plots show: a title, the x values (input angle, °) and the curves."""
-
-    title: str
-    x: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    valid: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
-    series: list[Series] = field(default_factory=list)
-    labels: dict[str, str] = field(default_factory=dict)   # plot -> y-axis label with unit
-    #: the stacked plots (name, default y label), top to bottom, and the shared x-axis label
-    rows: tuple[tuple[str, str], ...] = PLOTS
-    x_label: str = "input angle (°)"
-    #: the unit of ``x``: "deg" (a crank's angle) or "mm" (an actuator's input); names the table's first column
-    x_unit: str = "deg"
-    #: x of every animation frame (the cursor; a click goes to the nearest), when not ``x`` itself
-    frame_x: np.ndarray | None = None
-    #: the table "Export plot data as CSV" writes, when not the plotted columns
-    make_table: Callable[[], Table] | None = None
-
-    def table(self) -> Table:
-        """The plotted data as a table: ``input_deg`` (``input_mm`` for an actuator) then one
-        column per curve (unit in the name)."""
-        if self.make_table is not None:
-            return self.make_table()
-        cols = {f"input_{self.x_unit}": self.x}
-        for s in self.series:
-            if s.x is not None:
-                continue
-            cols[f"{s.name}_{s.unit}".replace("/", "_per_").replace("²", "2").replace("°", "deg")] = s.y
-        return Table.from_columns(cols)
-
 
 def _target(controller: SceneController) -> tuple[Linkage, str, str] | None:
     """(linkage, "joint"|"link", id) to plot: the selection, else the last group's inner joint."""
@@ -101,8 +53,6 @@ def _target(controller: SceneController) -> tuple[Linkage, str, str] | None:
 
 def plot_data(controller: SceneController) -> PlotData:
     """What to plot for the controller's current selection (pure: reads, never writes)."""
-    from .element_plots import element_plot_data   # it builds on PlotData and Series (defined here)
-
     element = element_plot_data(controller)
     if element is not None:
         return element
@@ -146,8 +96,6 @@ def plot_data(controller: SceneController) -> PlotData:
         if g.kind == "RRR":
             S.append(Series("transmission", f"μ {g.name}", "°", np.degrees(sol.transmission_angle(g.name))))
     data.labels["transmission"] = "μ (°)"
-    from .force_plots import add_force_series   # it builds on PlotData and Series (defined here)
-
     add_force_series(controller, data, lk, kind, ident)
     return data
 

@@ -156,7 +156,7 @@ COMPARE_ROWS = (("time (ms)", "time_s", "ms"), ("kinematic slip, points (mm)", "
 
 def method_comparison_box(panel, element_id: str) -> QGroupBox:
     """The three synthesis methods side by side at the element's N: the core's error table
-    (:func:`~mechsketch.core.analyses.rolling_synthesis.error_table`), computed when asked."""
+    (:func:`~mechsketch.core.analyses.rolling.synthesis.error_table`), computed when asked."""
     ctl = panel.controller
     box = QGroupBox("Methods side by side")
     lay = QVBoxLayout(box)
@@ -175,7 +175,7 @@ def method_comparison_box(panel, element_id: str) -> QGroupBox:
     lay.addWidget(note)
 
     def compare() -> None:
-        from mechsketch.core.analyses.rolling_synthesis import error_table   # 30 ms to import: not at start-up
+        from mechsketch.core.analyses.rolling.synthesis import error_table   # 30 ms to import: not at start-up
 
         el = ctl.scene.element(element_id)
         try:

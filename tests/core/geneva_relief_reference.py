@@ -8,10 +8,10 @@ import math
 
 import numpy as np
 
-from mechsketch.core.analyses.geneva_contour import Contour
-from mechsketch.core.analyses.geneva_geometry import INSIDE_TOL, RELIEF_GRID, RELIEF_ROUND, RELIEF_ZOOM
-from mechsketch.core.analyses.geneva_geometry import Relief, wheel_outline
-from mechsketch.core.analyses.geneva_kinematics import wheel_angle
+from mechsketch.core.analyses.contour import Contour
+from mechsketch.core.analyses.geneva.geometry import INSIDE_TOL, RELIEF_GRID, RELIEF_ROUND, RELIEF_ZOOM
+from mechsketch.core.analyses.geneva.geometry import Relief, wheel_outline
+from mechsketch.core.analyses.geneva.kinematics import wheel_angle
 from mechsketch.core.model.geneva import WheelDimensions
 
 

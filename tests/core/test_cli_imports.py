@@ -12,10 +12,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from mechsketch.core.analyses import geneva_geometry
-from mechsketch.core.analyses.geneva_contact import contact
-from mechsketch.core.analyses.geneva_kinematics import kinematics
-from mechsketch.core.analyses.geneva_report import analysis_table
+from mechsketch.core.analyses.geneva import geometry as geneva_geometry
+from mechsketch.core.analyses.geneva.contact import contact
+from mechsketch.core.analyses.geneva.kinematics import kinematics
+from mechsketch.core.analyses.geneva.report import analysis_table
 from mechsketch.core.cli import main
 from mechsketch.core.io.scene_file import load_scene, loads_scene
 from mechsketch.core.workspace import Workspace
@@ -71,7 +71,7 @@ def test_the_probe_sees_a_heavy_import_when_one_is_made(tmp_path):
 
 def test_export_option_constants_agree_with_their_modules():
     from mechsketch.core.analyses.parts import LAYOUTS
-    from mechsketch.core.analyses.parts_build import DEFAULT_TOLERANCE
+    from mechsketch.core.analyses.parts.build import DEFAULT_TOLERANCE
     from mechsketch.core.cli import export_cmds
     from mechsketch.core.io.dxf_parts import ARC_STYLES
 

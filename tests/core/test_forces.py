@@ -21,7 +21,7 @@ from hypothesis import strategies as st
 import linkage_builders as LB
 from forces_reference import FloatKin, MpKin, equilibrium
 from mechsketch.core import RequestError
-from mechsketch.core.analyses.forces import COND_WARN, linkage_forces
+from mechsketch.core.analyses.forces.kinetostatics import COND_WARN, linkage_forces
 from mechsketch.core.model.loads import Damper, End, LinkMass, PointForce, Spring, Torque
 from mechsketch.core.solver.plan import compile_plan
 from reference import MpReference

@@ -24,8 +24,8 @@ import pytest
 import drive_builders as DB
 from forces_reference import DriveKin, FloatKin, equilibrium
 from mechsketch.core import Workspace, load_scene
-from mechsketch.core.analyses.forces import linkage_forces
-from mechsketch.core.analyses.forces_report import force_summary
+from mechsketch.core.analyses.forces.kinetostatics import linkage_forces
+from mechsketch.core.analyses.forces.report import force_summary
 from mechsketch.core.cli import main
 from mechsketch.core.model.loads import LinkMass, PointForce
 from mechsketch.core.solver.plan import compile_plan

@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 from mechsketch.core import SceneFormatError, Workspace, load_scene, loads_scene
-from mechsketch.core.analyses.geneva_torque import crank_torque
+from mechsketch.core.analyses.geneva.torque import crank_torque
 from mechsketch.core.cli import main
 from mechsketch.core.io.scene_file import dumps_scene
 from mechsketch.core.model.edits import ReplaceElement
@@ -214,8 +214,8 @@ def test_analyze_forces_summary(capsys):
 def test_geneva_crank_torque_is_the_power_balance_without_journal_friction(capsys):
     from dataclasses import replace
 
-    from mechsketch.core.analyses.geneva_contact import contact
-    from mechsketch.core.analyses.geneva_kinematics import kinematics
+    from mechsketch.core.analyses.geneva.contact import contact
+    from mechsketch.core.analyses.geneva.kinematics import kinematics
 
     el = load_scene(example_path("geneva_z6")).elements[0]
     free = replace(el, load=replace(el.load, journal_friction=0.0, external_moment=0.7))
@@ -252,7 +252,7 @@ def test_samples_that_cannot_be_assembled_have_no_forces(capsys, tmp_path):
     assert not sol.valid.all() and np.array_equal(res.valid, sol.valid)
     assert np.isnan(res.driver.values[~res.valid]).all() and np.isfinite(res.driver.values[res.valid]).all()
     assert res.power.worst < 1e-12
-    from mechsketch.core.analyses.forces_report import force_summary, force_table
+    from mechsketch.core.analyses.forces.report import force_summary, force_table
 
     assert f"{int((~res.valid).sum())} samples not assembled" in force_summary(res)
     text = force_table(res).to_csv().splitlines()

@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 
 from mechsketch.core import load_scene
-from mechsketch.core.analyses.geneva_contact import contact
-from mechsketch.core.analyses.geneva_geometry import geometry
-from mechsketch.core.analyses.geneva_kinematics import kinematics
+from mechsketch.core.analyses.geneva.contact import contact
+from mechsketch.core.analyses.geneva.geometry import geometry
+from mechsketch.core.analyses.geneva.kinematics import kinematics
 from mechsketch.core.cli import main
 from mechsketch.core.cli.geneva_cmds import COLUMNS
 from mechsketch.resources import example_path

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 from scipy import integrate
 
-from mechsketch.core.analyses.geneva_contact import breakpoints, ContactConstants, slip_path_gauss
-from mechsketch.core.analyses.geneva_contact import contact
+from mechsketch.core.analyses.geneva.contact import breakpoints, ContactConstants, slip_path_gauss
+from mechsketch.core.analyses.geneva.contact import contact
 from mechsketch.core.model.geneva import ContactModel, Drawing, Geneva, Load, Material
 
 RPM10 = 300.0 / math.pi  # ω1 = 10 rad/s
@@ -218,7 +218,7 @@ def test_gauss_legendre_rule_against_mpmath(n):
     nodes and weights against mpmath's at 40 digits, and exact for x^(2n−2)."""
     import mpmath
 
-    from mechsketch.core.analyses.geneva_contact import _gauss
+    from mechsketch.core.analyses.geneva.contact import _gauss
 
     x, w = _gauss.__wrapped__(n)
     with mpmath.workdps(40):

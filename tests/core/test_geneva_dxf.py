@@ -17,9 +17,9 @@ from ezdxf import bbox
 from hypothesis import HealthCheck, given, settings, strategies as st
 
 from mechsketch.core import ExportError, GeometryError
-from mechsketch.core.analyses.geneva_geometry import geometry
+from mechsketch.core.analyses.geneva.geometry import geometry
 from mechsketch.core.analyses.parts import check_part, lay_out
-from mechsketch.core.analyses.parts_geneva import geneva_parts
+from mechsketch.core.analyses.parts.geneva import geneva_parts
 from mechsketch.core.io.export_parts import export_parts
 from mechsketch.core.io.scene_file import scene_from_dict
 from mechsketch.core.model.geneva import Drawing, Geneva

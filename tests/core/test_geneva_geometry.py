@@ -11,10 +11,10 @@ import shapely
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
-from mechsketch.core.analyses.geneva_clearance import check_clearances
-from mechsketch.core.analyses.geneva_contour import Contour
-from mechsketch.core.analyses.geneva_geometry import geometry
-from mechsketch.core.analyses.geneva_geometry import relief_values, wheel_outline
+from mechsketch.core.analyses.geneva.clearance import check_clearances
+from mechsketch.core.analyses.contour import Contour
+from mechsketch.core.analyses.geneva.geometry import geometry
+from mechsketch.core.analyses.geneva.geometry import relief_values, wheel_outline
 from mechsketch.core.model.geneva import Clearances, Drawing, Geneva, parse
 
 

@@ -7,8 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from mechsketch.core.analyses.geneva_kinematics import accel_ratio, jerk_ratio, peak_accel, velocity_ratio
-from mechsketch.core.analyses.geneva_kinematics import kinematics
+from mechsketch.core.analyses.geneva.kinematics import accel_ratio, jerk_ratio, peak_accel, velocity_ratio
+from mechsketch.core.analyses.geneva.kinematics import kinematics
 from mechsketch.core.model.geneva import Drawing, Geneva
 
 W1 = 10.0

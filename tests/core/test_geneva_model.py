@@ -9,7 +9,7 @@ import math
 import pytest
 
 from mechsketch.core import GeometryError, SceneFormatError, load_scene, loads_scene
-from mechsketch.core.analyses.geneva_geometry import geometry
+from mechsketch.core.analyses.geneva.geometry import geometry
 from mechsketch.core.io.scene_file import dumps_scene, scene_from_dict
 from mechsketch.core.model.geneva import (Clearances, Drawing, Geneva, require_valid,
                                           wheel_dimensions)

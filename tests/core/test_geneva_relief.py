@@ -15,8 +15,8 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 from geneva_relief_reference import relief_old, relief_values_old
-from mechsketch.core.analyses.geneva_geometry import relief, relief_values, wheel_outline
-from mechsketch.core.analyses.geneva_relief import bounding_circles, reaching
+from mechsketch.core.analyses.geneva.geometry import relief, relief_values, wheel_outline
+from mechsketch.core.analyses.geneva.relief import bounding_circles, reaching
 from mechsketch.core.model.geneva import Clearances, Geneva, WheelDimensions, parse
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "resources" / "examples"

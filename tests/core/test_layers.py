@@ -1,9 +1,11 @@
 """The import contract of core (DESIGN.md, "Dependency direction"), read from the source with ``ast``.
 
-Layers, lowest first: ``errors.py`` (anyone may import it) < model < solver < analyses < io <
-workspace < cli, and ``core/__init__.py``, the public facade, on top. A module imports only from
+Layers, lowest first: ``errors.py`` (anyone may import it) < model < solver < analyses < studies <
+design < io < workspace < cli, and ``core/__init__.py``, the public facade, on top. A module imports only from
 its own layer or lower ones; nothing in core imports Qt, pyqtgraph or ``mechsketch.gui``; and model,
-solver, analyses and io import nothing inside a function (a lazy import there hides a cycle).
+solver, analyses, studies, design and io import nothing of ours inside a function (a lazy import
+there hides a cycle); and no two modules of core import each other, directly or through others
+(TYPE_CHECKING imports included: a cycle of types is a cycle of meaning).
 Every import counts, function-level ones included, except those under ``if TYPE_CHECKING:``; a
 string constant that is a ``mechsketch.core...`` module name counts too (``importlib`` by name).
 """
@@ -19,6 +21,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
+from import_graph import import_cycles
 
 import mechsketch.core
 
@@ -26,15 +29,16 @@ CORE = Path(mechsketch.core.__file__).resolve().parent
 PACKAGE = "mechsketch.core"
 
 #: rank of each layer; a module may import from layers of equal or lower rank
-RANK = {"base": 0, "model": 1, "solver": 2, "analyses": 3, "io": 4, "workspace": 5, "cli": 6, "facade": 7}
+RANK = {"base": 0, "model": 1, "solver": 2, "analyses": 3, "studies": 4, "design": 5, "io": 6, "workspace": 7,
+        "cli": 8, "facade": 9}
 #: modules at the top of core, by file name
 TOP_FILES = {"errors.py": "base", "runtime.py": "base", "__init__.py": "facade"}
 #: layers whose modules may not import inside a function or class
-NO_LAZY = ("base", "model", "solver", "analyses", "io")
+NO_LAZY = ("base", "model", "solver", "analyses", "studies", "design", "io")
 #: third-party packages that model/solver/analyses/io may import inside a function: heavy
 #: (20-130 ms) and needed by few commands, so ``analyze --summary`` and the GUI's first frame do
 #: not pay for them (issue 14). Our own modules never: a lazy import of one hides a cycle.
-LAZY_THIRD_PARTY = ("jsonschema", "ezdxf", "shapely")
+LAZY_THIRD_PARTY = ("jsonschema", "ezdxf", "shapely", "scipy", "dask", "distributed", "pymoo", "numba")
 #: roots that no core module may import
 FORBIDDEN = ("PySide6", "shiboken6", "pyqtgraph", "PyQt5", "PyQt6", "PySide2", "mechsketch.gui")
 MODULE_NAME = re.compile(r"mechsketch(\.[A-Za-z_][A-Za-z0-9_]*)+")
@@ -107,12 +111,13 @@ def _docstring_nodes(tree: ast.AST) -> set[int]:
     return out
 
 
-def imports_of(path: Path) -> list[Import]:
-    """Every import of a core file (TYPE_CHECKING blocks excluded), with absolute targets."""
-    return imports_in(path.read_text(encoding="utf-8"), module_name(path)[1], str(path.relative_to(CORE.parent)))
+def imports_of(path: Path, type_checking: bool = False) -> list[Import]:
+    """Every import of a core file (TYPE_CHECKING blocks only if asked), with absolute targets."""
+    return imports_in(path.read_text(encoding="utf-8"), module_name(path)[1], str(path.relative_to(CORE.parent)),
+                      type_checking)
 
 
-def imports_in(source: str, package: str, rel: str) -> list[Import]:
+def imports_in(source: str, package: str, rel: str, type_checking: bool = False) -> list[Import]:
     """Every import of ``source``, a module of ``package`` shown as ``rel`` in messages."""
     tree = ast.parse(source, filename=rel)
     docstrings = _docstring_nodes(tree)
@@ -123,7 +128,7 @@ def imports_in(source: str, package: str, rel: str) -> list[Import]:
         found.append(Import(rel, node.lineno, " ".join(text.split()), target, nested))
 
     def visit(node: ast.AST, nested: bool) -> None:
-        if isinstance(node, ast.If) and _is_type_checking(node.test):
+        if isinstance(node, ast.If) and _is_type_checking(node.test) and not type_checking:
             for child in node.orelse:
                 visit(child, nested)
             return
@@ -215,7 +220,8 @@ def test_every_core_module_has_a_layer():
 
 
 # -- the contract --------------------------------------------------------------------------------
-@pytest.mark.parametrize("layer", ["base", "model", "solver", "analyses", "io", "workspace", "cli"])
+@pytest.mark.parametrize("layer", ["base", "model", "solver", "analyses", "studies", "design", "io", "workspace",
+                                   "cli"])
 def test_a_layer_imports_only_its_own_or_lower_layers(layer):
     bad = []
     for src, imp in all_imports():
@@ -250,3 +256,28 @@ def test_importing_core_and_its_cli_loads_no_qt():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, cwd="/")
     assert out.returncode == 0, out.stderr
     assert out.stdout.strip() == "[]", f"importing mechsketch.core and its CLI loaded {out.stdout.strip()}"
+
+
+def test_the_cycle_finder_finds_cycles():
+    assert import_cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [["a", "b", "c"]]
+    assert import_cycles({"a": {"b"}, "b": set(), "c": {"b"}}) == []
+    assert import_cycles({"a": {"b"}, "b": {"a"}, "c": {"d"}, "d": {"c"}}) == [["a", "b"], ["c", "d"]]
+
+
+def test_no_import_cycle_in_core():
+    """No module of core reaches itself through imports of any kind (TYPE_CHECKING, in functions)."""
+    graph: dict[str, set[str]] = {}
+    for path in core_files():
+        name = module_name(path)[0]
+        graph[name] = {_module_of(imp.target) for imp in imports_of(path, type_checking=True)} - {None, name}
+    cycles = import_cycles(graph)
+    assert not cycles, "import cycles in core:\n  " + "\n  ".join(" <-> ".join(c) for c in cycles)
+
+
+def _module_of(target: str) -> str | None:
+    """The core module that an import target names (a name imported from a module: that module)."""
+    while target.startswith(PACKAGE):
+        if _is_submodule(target):
+            return target
+        target = target.rsplit(".", 1)[0]
+    return None

@@ -14,7 +14,7 @@ import shapely
 from mechsketch import resources
 from mechsketch.core import GeometryError, load_scene
 from mechsketch.core.analyses.parts import check_part, disc_hull, lay_out
-from mechsketch.core.analyses.parts_linkage import LinkageStyle, linkage_parts, travels
+from mechsketch.core.analyses.parts.linkage import LinkageStyle, linkage_parts, travels
 from mechsketch.core.io.export_parts import export_parts
 from mechsketch.core.solver.plan import compile_plan
 

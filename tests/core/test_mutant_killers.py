@@ -26,10 +26,10 @@ import pytest
 import linkage_builders as LB
 import mutant_refs as MR
 import test_rolling_reference as RR
-from mechsketch.core.analyses.geneva_contact import contact
-from mechsketch.core.analyses.rolling_exact import integrate, working_range
-from mechsketch.core.analyses.rolling_geometry import LeverGeometry
-from mechsketch.core.analyses.rolling_synthesis import synthesize
+from mechsketch.core.analyses.geneva.contact import contact
+from mechsketch.core.analyses.rolling.exact import integrate, working_range
+from mechsketch.core.analyses.rolling.geometry import LeverGeometry
+from mechsketch.core.analyses.rolling.synthesis import synthesize
 from mechsketch.core.model.geneva import ContactModel, Drawing, Geneva, Load
 from mechsketch.core.solver.plan import compile_plan
 from mechsketch.core.solver.structure import mobility

@@ -14,10 +14,10 @@ from pathlib import Path
 import pytest
 
 from mechsketch.core import load_scene
-from mechsketch.core.analyses import rolling_exact as RE
-from mechsketch.core.analyses.rolling_exact import exact_path, integrate
-from mechsketch.core.analyses.rolling_geometry import LeverGeometry
-from mechsketch.core.analyses.rolling_synthesis import synthesize
+from mechsketch.core.analyses.rolling import exact as RE
+from mechsketch.core.analyses.rolling.exact import exact_path, integrate
+from mechsketch.core.analyses.rolling.geometry import LeverGeometry
+from mechsketch.core.analyses.rolling.synthesis import synthesize
 from mechsketch.core.errors import GeometryError
 from mechsketch.core.io.scene_file import scene_from_dict
 from mechsketch.resources import example_path

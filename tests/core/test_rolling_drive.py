@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import test_rolling_reference as ref
-from mechsketch.core.analyses.rolling_synthesis import synthesize
+from mechsketch.core.analyses.rolling.synthesis import synthesize
 from mechsketch.core.errors import GeometryError
 
 

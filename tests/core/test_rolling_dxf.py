@@ -15,9 +15,9 @@ from scipy.spatial import cKDTree
 
 import test_rolling_reference as ref
 from mechsketch.core.analyses.biarc import Arc, arc_distance, biarc, fit_biarcs
-from mechsketch.core.analyses.rolling_synthesis import COLUMNS, synthesize
+from mechsketch.core.analyses.rolling.synthesis import COLUMNS, synthesize
 from mechsketch.core.cli import main
-from mechsketch.core.analyses.parts_rolling import RollingStyle, rolling_parts
+from mechsketch.core.analyses.parts.rolling import RollingStyle, rolling_parts
 from mechsketch.core.io.export_parts import export_parts
 
 

@@ -11,11 +11,11 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 import test_rolling_reference as ref
-from mechsketch.core.analyses.rolling_exact import exact_path, working_range
+from mechsketch.core.analyses.rolling.exact import exact_path, working_range
 from mechsketch.core.model.rolling_lever import parse
-from mechsketch.core.analyses.rolling_geometry import LeverGeometry, pose_state
-from mechsketch.core.analyses.rolling_slip import continuous_measures
-from mechsketch.core.analyses.rolling_synthesis import synthesize
+from mechsketch.core.analyses.rolling.geometry import LeverGeometry, pose_state
+from mechsketch.core.analyses.rolling.slip import continuous_measures
+from mechsketch.core.analyses.rolling.synthesis import synthesize
 from mechsketch.core.errors import GeometryError
 
 
@@ -75,7 +75,7 @@ def test_equal_arc_lengths_and_no_slip_of_the_computed_motion(press):
     assert abs(c.mismatch_e) <= 1e-9 * c.length_slider
     assert c.slip_d <= 1e-9 and c.slip_e <= 1e-9
     # a wrong rate law shows up: integrate dα/dθ = 1 − g/ℓ with ℓ off by 0.1 %
-    from mechsketch.core.analyses import rolling_exact as rx
+    from mechsketch.core.analyses.rolling import exact as rx
     geom = LeverGeometry.from_element(ref.element())
     bad = rx.ExactPath(geom, *_bad_path(geom), 0.0, 0)
     cb = continuous_measures(bad, 0.0, -0.5926)
@@ -347,7 +347,7 @@ def test_refusal_reports_the_nearer_end():
     """The stroke's integration and the working-range march may find an end at slightly different
     θ (or, before the fixes, at very different θ); the refusal names one end and a range that
     agrees with it."""
-    from mechsketch.core.analyses.rolling_exact import _beyond_message, _OutOfRange
+    from mechsketch.core.analyses.rolling.exact import _beyond_message, _OutOfRange
 
     geom = LeverGeometry.from_element(ref.element())
     wr = working_range(geom)
@@ -362,7 +362,7 @@ def test_refusal_reports_the_nearer_end():
 
 def test_no_nan_comes_back_silently(monkeypatch):
     """Measures over a span the motion cannot reach, and samples that are not finite, are refused."""
-    from mechsketch.core.analyses import rolling_exact
+    from mechsketch.core.analyses.rolling import exact as rolling_exact
 
     geom = LeverGeometry.from_element(ref.element())
     path = exact_path(geom, 0.0, -0.79, 1e-10)

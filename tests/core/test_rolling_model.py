@@ -8,7 +8,7 @@ import pytest
 
 import test_rolling_reference as ref
 from mechsketch.core import SceneFormatError, dumps_scene, load_scene, loads_scene, save_scene
-from mechsketch.core.analyses.rolling_synthesis import synthesize
+from mechsketch.core.analyses.rolling.synthesis import synthesize
 from mechsketch.core.model.rolling_lever import RollingLever, parse
 from mechsketch.resources import example_path
 

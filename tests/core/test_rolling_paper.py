@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 
 import test_rolling_reference as ref
-from mechsketch.core.analyses.rolling_synthesis import error_table, slip_report, synthesize
+from mechsketch.core.analyses.rolling.report import summary
+from mechsketch.core.analyses.rolling.synthesis import error_table, slip_report, synthesize
 
 NS = (4, 16, 64, 512)
 
@@ -102,11 +103,11 @@ def test_pair_e_of_the_paper_construction_uses_its_own_poses(results):
 
 def test_summary_says_plainly_that_the_paper_levels_off():
     res = synthesize(ref.element(method="paper", points=64))
-    text = res.summary()
+    text = summary(res)
     assert "levels off" in text and "use method 'exact'" in text
     assert "1.011" in text  # its kinematic slip with N = 64
     res = synthesize(ref.element(method="corrected", points=64))
-    assert "converges as N⁻²" in res.summary()
+    assert "converges as N⁻²" in summary(res)
 
 
 def test_constructions_close_to_the_end_of_the_working_range():
@@ -114,8 +115,8 @@ def test_constructions_close_to_the_end_of_the_working_range():
     corrected one can: its Newton iteration stops where its steps stall at round-off (the 2×2
     system is ill-conditioned there). It used to demand steps below 1e-15 rad and failed, e.g. at
     step 365 of 400 with the stroke ending 1e-6 rad before the tangency, 0.0125 rad before it."""
-    from mechsketch.core.analyses.rolling_exact import working_range
-    from mechsketch.core.analyses.rolling_geometry import LeverGeometry
+    from mechsketch.core.analyses.rolling.exact import working_range
+    from mechsketch.core.analyses.rolling.geometry import LeverGeometry
     from mechsketch.core.errors import GeometryError
 
     lim = working_range(LeverGeometry.from_element(ref.element())).lower
@@ -130,4 +131,4 @@ def test_constructions_close_to_the_end_of_the_working_range():
     # a stroke the paper's construction draws with N = 100 but not with 2N: the summary says so
     res = synthesize(ref.element(stroke={"from": 0.0, "to": -0.6993}), "paper", 100)
     assert res.slip.refined is None
-    assert "note: with N = 200 points the paper's construction fails at step 200 of 200" in res.summary()
+    assert "note: with N = 200 points the paper's construction fails at step 200 of 200" in summary(res)

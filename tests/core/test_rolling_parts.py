@@ -11,8 +11,8 @@ import shapely
 
 from mechsketch import resources
 from mechsketch.core import GeometryError, load_scene
-from mechsketch.core.analyses.parts_rolling import RollingStyle, rolling_parts
-from mechsketch.core.analyses.rolling_synthesis import synthesize
+from mechsketch.core.analyses.parts.rolling import RollingStyle, rolling_parts
+from mechsketch.core.analyses.rolling.synthesis import synthesize
 from mechsketch.core.io.export_parts import export_parts
 
 from parts_readback import FLAT, dxf_parts, read_dxf, svg_parts

@@ -9,11 +9,12 @@ import numpy as np
 import pytest
 
 import test_rolling_reference as ref
-from mechsketch.core.analyses import rolling_exact as rx
-from mechsketch.core.analyses.rolling_geometry import pose_state
-from mechsketch.core.analyses.rolling_geometry import LeverGeometry
-from mechsketch.core.analyses.rolling_slip import continuous_measures, continuous_slip
-from mechsketch.core.analyses.rolling_synthesis import synthesize
+from mechsketch.core.analyses.rolling import exact as rx
+from mechsketch.core.analyses.rolling.geometry import pose_state
+from mechsketch.core.analyses.rolling.geometry import LeverGeometry
+from mechsketch.core.analyses.rolling.slip import continuous_measures, continuous_slip
+from mechsketch.core.analyses.rolling.report import summary
+from mechsketch.core.analyses.rolling.synthesis import synthesize
 from mechsketch.core.workspace import Workspace
 from mechsketch.core.model.scene import Scene
 
@@ -34,7 +35,7 @@ def test_exact_method_samples_are_the_computed_motions_slip_ending_at_the_summar
     assert np.all(np.diff(s.slip_d) >= 0.0) and np.all(np.diff(s.slip_e) >= 0.0)
     # the numbers: chords of 201 points give 3.8e-5 mm, the motion itself slides < 1e-9 mm
     assert rep.points.kinematic_slip > 1e-5
-    assert s.slip_d[-1] < 1e-9 and f"{rep.continuous.slip_d:.2e}" in exact.summary()
+    assert s.slip_d[-1] < 1e-9 and f"{rep.continuous.slip_d:.2e}" in summary(exact)
 
 
 def _bad_path(geom, end=-0.5926, n=2001):

@@ -11,7 +11,7 @@ from chains import dyad_chain
 from linkage_builders import fourbar
 from mechsketch.core import (AddElement, EditError, MoveJoint, RemoveElement, ReplaceElement, RequestError,
                              Scene, UnknownIdError, load_scene)
-from mechsketch.core.analyses.geneva_kinematics import kinematics
+from mechsketch.core.analyses.geneva.kinematics import kinematics
 from mechsketch.core.model.linkage import Link
 from mechsketch.core.solver.incremental import dirty_steps, moved_joints, resweep
 from mechsketch.core.solver.plan import compile_plan

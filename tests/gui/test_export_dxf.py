@@ -11,8 +11,8 @@ from PySide6.QtGui import QKeySequence
 
 from mechsketch import resources
 from mechsketch.core import load_scene
-from mechsketch.core.analyses import parts_build
-from mechsketch.core.analyses.parts_build import PartOptions
+from mechsketch.core.analyses.parts import build as parts_build
+from mechsketch.core.analyses.parts.build import PartOptions
 from mechsketch.gui.export_dialog import ExportDialog, ExportRequest
 from mechsketch.gui.export_worker import ExportTask
 

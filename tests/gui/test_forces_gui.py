@@ -12,7 +12,7 @@ import pytest
 from PySide6.QtCore import QPointF, QRectF, Qt
 from PySide6.QtWidgets import QLabel
 
-from mechsketch.core.analyses.geneva_torque import crank_torque
+from mechsketch.core.analyses.geneva.torque import crank_torque
 from mechsketch.core.model.loads import PointForce
 from mechsketch.resources import example_path
 

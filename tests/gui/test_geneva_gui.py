@@ -11,9 +11,9 @@ from PySide6.QtGui import QPainterPath
 
 from mechsketch import resources
 from mechsketch.core import Scene, Workspace, load_scene
-from mechsketch.core.analyses.geneva_contact import contact
-from mechsketch.core.analyses.geneva_geometry import geometry
-from mechsketch.core.analyses.geneva_kinematics import kinematics
+from mechsketch.core.analyses.geneva.contact import contact
+from mechsketch.core.analyses.geneva.geometry import geometry
+from mechsketch.core.analyses.geneva.kinematics import kinematics
 from mechsketch.core.cli import geneva_cmds
 from mechsketch.core.model.geneva import Geneva
 from mechsketch.gui.canvas.geneva_items import ARC_PIECE

@@ -8,7 +8,7 @@ import pytest
 from PySide6.QtCore import QRectF, Qt
 
 from canvas_user import make_view
-from mechsketch.core.analyses.geneva_kinematics import kinematics
+from mechsketch.core.analyses.geneva.kinematics import kinematics
 from mechsketch.core.model.geneva import parse, wheel_dimensions
 from mechsketch.gui.canvas.geneva_tool import scaled_drive
 

@@ -11,7 +11,7 @@ from PySide6.QtCore import QPointF
 from PySide6.QtGui import QPainterPath
 
 from mechsketch.core import ReplaceElement, Workspace
-from mechsketch.core.analyses.rolling_synthesis import synthesize
+from mechsketch.core.analyses.rolling.synthesis import synthesize
 from mechsketch.core.cli import rolling_cmds
 from mechsketch.core.model.rolling_lever import RollingLever
 

@@ -9,7 +9,7 @@ from PySide6.QtCore import QRectF
 
 from canvas_user import example, make_view
 from app_fakes import shell  # noqa: F401 - fixture
-from mechsketch.core.analyses.rolling_synthesis import synthesize
+from mechsketch.core.analyses.rolling.synthesis import synthesize
 
 WINDOW = QRectF(-170.0, -110.0, 320.0, 230.0)
 # the notes' example 5: R1 = 50 about (0, 0), pin (60, −20), pivot (−150, −40), R2 = 80 about (20, 0)
@@ -125,7 +125,7 @@ def test_matching_marks_on_both_bodies_meet_at_the_contact_as_the_lever_rolls(qt
 
 def test_methods_side_by_side_in_the_properties_show_the_cores_slip_measures(shell):
     from app_fakes import open_example
-    from mechsketch.core.analyses.rolling_synthesis import error_table
+    from mechsketch.core.analyses.rolling.synthesis import error_table
     from PySide6.QtWidgets import QPushButton, QTableWidget
 
     parts, ctl, view = open_example(shell, "rolling_lever_press")

@@ -11,7 +11,8 @@ from mechsketch.core.model.linkage import Joint, JointKind, Link
 from mechsketch.core.solver.plan import compile_plan
 from mechsketch.gui.canvas import ops
 from mechsketch.gui.canvas.events import CanvasEvent, Hit
-from mechsketch.gui.canvas.pose import nearest_valid, pick, walk_to
+from mechsketch.gui.canvas.pose import pick
+from mechsketch.gui.frames import nearest_valid, walk_to
 from mechsketch.gui.canvas.tools import (CouplerPointTool, CrankTool, DeleteTool, GroundPivotTool, RPRTool,
                                          RRRTool, SelectTool, SliderTool, ToolContext)
 from mechsketch.gui.controller import SceneController

@@ -1,0 +1,198 @@
+"""Cut-ready parts of a rolling lever: the frame plate, the lever plate and the slider plate.
+
+Each part is one closed outline whose working edge is the synthesised profile (mm):
+
+- ``frame`` (ground frame): the fixed centrode of pair D (the frame profile) fitted by biarcs
+  within the tolerance, backed by a plate of depth ``depth`` on the side away from the lever
+  (straight lines from the profile's ends along their normals, joined by the back edge);
+- ``frame_pivots`` (same group as ``frame``, so the apart layout keeps their places): the
+  drilling pattern of the frame's pivots, the rocker pivot G and, with a drive, the crank pivot A;
+- ``lever`` (lever frame = drawn pose): one outline through the two working arcs (the lever
+  circle over the contact angles u1 of the stroke, the slider circle over u2; true arcs kept
+  whole) and the bosses of the pin f and, with a drive, of the coupler pin C, taken in angular
+  order and joined by outer tangents (:func:`fan_outline`), with their bores;
+- ``slider`` (slider frame, the ground at S5 = 0): the slider's conjugate profile fitted by
+  biarcs, backed like the frame.
+
+The fitted edges' largest deviation from the exact curve (the integrated centrode; the spline
+through the constructed points for the paper's and the corrected constructions) is measured and
+kept below the tolerance; for a construction the report also states how far its profile lies
+from the exact centrode.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...errors import GeometryError
+from ..biarc import BiarcFit, fit_biarcs
+from ..contour import Contour
+from .outline import ccw, circle
+from .records import Part, PartSet
+from ..rolling.geometry import pose_state
+from ..rolling.synthesis import RollingSynthesis
+
+#: tolerances below this are refused (mm): the biarc count grows like tolerance^(-1/3)
+MIN_TOLERANCE = 1e-6
+KEYS_PROFILE = ("stroke", "lever_circle", "slider_circle", "--tolerance", "--depth")
+KEYS_LEVER = ("pin_diameter", "lever_circle", "slider_circle", "pin", "drive.coupler_point")
+
+
+@dataclass(frozen=True)
+class RollingStyle:
+    """Sizes (mm): ``depth`` of the frame and slider plates behind their profiles (None: a
+    quarter of the profile's chord, at least 3 pin diameters), ``boss`` around the lever's pins
+    (None: one pin diameter), ``tolerance`` of the fitted profiles."""
+
+    depth: float | None = None
+    boss: float | None = None
+    tolerance: float = 0.001
+
+
+def _fit(curve_range, tolerance: float, what: str) -> BiarcFit:
+    curve, t0, t1 = curve_range
+    try:
+        return fit_biarcs(curve, t0, t1, tolerance)
+    except (ValueError, GeometryError) as exc:
+        raise GeometryError(f"cannot fit the {what} within {tolerance:g} mm: {exc}") from None
+
+
+def _backed(fit: BiarcFit, away: np.ndarray, depth: float, kind: str) -> Contour:
+    """The profile (a biarc chain) closed by a plate of ``depth`` mm on the side of ``away``."""
+    pts = [np.array(a.start) for a in fit.arcs] + [np.array(fit.arcs[-1].end)]
+    bul = [a.bulge for a in fit.arcs]
+    p0, p1 = pts[0], pts[-1]
+    chord = p1 - p0
+    n = np.array([-chord[1], chord[0]]) / np.hypot(*chord)
+    if n @ away < 0:
+        n = -n
+    back1, back0 = p1 + depth * n, p0 + depth * n
+    verts = np.array(pts + [back1, back0])
+    bulges = np.array(bul + [0.0, 0.0, 0.0])
+    return ccw(Contour(verts, bulges, (kind,) * len(bulges)))
+
+
+def rolling_parts(res: RollingSynthesis, style: RollingStyle = RollingStyle()) -> PartSet:
+    """The plates of a synthesised rolling lever (see the module docstring). Raises
+    :class:`GeometryError` for a tolerance that is not finite or below what is exported
+    faithfully, or a profile that cannot be fitted."""
+    tol = style.tolerance
+    if not (math.isfinite(tol) and tol > 0.0):
+        raise GeometryError(f"the tolerance must be a positive number of millimetres, got {tol}")
+    floor = max(MIN_TOLERANCE, 10.0 * (res.error_mm if math.isfinite(res.error_mm) else 0.0))
+    if tol < floor:
+        raise GeometryError(f"a tolerance of {tol:g} mm is below what is exported faithfully ({floor:g} mm)")
+    el = res.element
+    r_pin = 0.5 * el.pin_diameter
+    boss = style.boss if style.boss is not None else el.pin_diameter
+    frame_fit = _fit(res.frame_profile(), tol, "frame profile")
+    slider_fit = _fit(res.slider_profile(), tol, "slider profile")
+    chord = max(float(np.hypot(*(res.P[-1] - res.P[0]))), float(np.hypot(*(res.Q[-1] - res.Q[0]))))
+    depth = style.depth if style.depth is not None else max(0.25 * chord, 3 * el.pin_diameter)
+    if not (math.isfinite(depth) and depth > 0):
+        raise GeometryError(f"--depth must be a positive number of millimetres; got {depth:g}")
+    # the lever is on one side of each profile: the material goes to the other
+    ends = pose_state(res.geom, res.alpha[[0, -1]], res.theta[[0, -1]])
+    away_f = 0.5 * (res.P[0] + res.P[-1]) - 0.5 * (ends.C1[0] + ends.C1[-1])
+    away_s = 0.5 * (res.Q[0] + res.Q[-1]) - np.asarray(el.slider_circle.center, float)
+    frame = _backed(frame_fit, away_f, depth, "frame")
+    slider = _backed(slider_fit, away_s, depth, "slider")
+    pivots = [circle(el.rocker_pivot, r_pin)]
+    if el.drive is not None:
+        pivots.append(circle(el.drive.crank_pivot, r_pin))
+    pins = [el.pin] + ([el.drive.coupler_point] if el.drive is not None else [])
+    u1 = (float(np.min(res.u1)), float(np.max(res.u1)))
+    u2 = (float(np.min(res.u2)), float(np.max(res.u2)))
+    lc, sc = el.lever_circle, el.slider_circle
+    lever_outline = fan_outline([(lc.center, lc.radius, u1), (sc.center, sc.radius, u2)]
+                                + [(q, r_pin + boss, None) for q in pins])
+    lever = Part("lever", lever_outline, tuple(circle(p, r_pin) for p in pins), group="lever", keys=KEYS_LEVER)
+    parts = (
+        Part("frame", frame, (), group="frame", deviation=frame_fit.max_deviation, keys=KEYS_PROFILE),
+        Part("frame_pivots", None, tuple(pivots), group="frame", keys=("rocker_pivot", "drive.crank_pivot")),
+        lever,
+        Part("slider", slider, (), group="slider", deviation=slider_fit.max_deviation, keys=KEYS_PROFILE),
+    )
+    src = ("the exact curve (integrated centrode)" if res.method == "exact" else
+           "the constructed profile (natural cubic spline through the points)")
+    notes = [f"frame profile: {len(frame_fit.arcs)} arcs ({frame_fit.spans} biarcs), max deviation "
+             f"{frame_fit.max_deviation:.3e} mm from {src} (tolerance {tol:g} mm); plate depth {depth:.3f} mm",
+             f"slider profile: {len(slider_fit.arcs)} arcs ({slider_fit.spans} biarcs), max deviation "
+             f"{slider_fit.max_deviation:.3e} mm (tolerance {tol:g} mm)",
+             f"lever: working arcs u1 {math.degrees(u1[0]):.4f}° … {math.degrees(u1[1]):.4f}° on the lever circle, "
+             f"u2 {math.degrees(u2[0]):.4f}° … {math.degrees(u2[1]):.4f}° on the slider circle (true arcs), "
+             f"pin bores Ø{el.pin_diameter:g} mm, bosses {boss:g} mm",
+             "frame_pivots: the rocker pivot" + (" and the crank pivot" if el.drive is not None else "")
+             + " drilled in the base plate, placed with the frame profile"]
+    if res.method != "exact":
+        dev = float(np.max(res.reference().distance(res.P)))
+        notes.append(f"note: the {res.method} construction itself deviates {dev:.4g} mm from the exact centrode")
+    return PartSet(el.id, parts, (), tuple(notes))
+
+
+def _tangent(ci: np.ndarray, ri: float, cj: np.ndarray, rj: float) -> tuple[np.ndarray, np.ndarray]:
+    """The outer tangent from disc i to disc j with both on its left (radius 0: a point): the
+    points where it leaves i and meets j (mm)."""
+    d = ci - cj
+    rho = float(np.hypot(*d))
+    x = (rj - ri) / rho
+    if abs(x) > 1.0:
+        raise GeometryError("a pin boss and a working arc (or two bosses) overlap too much to be joined")
+    beta, a = math.atan2(d[1], d[0]), math.acos(x)
+    for th in (beta + a, beta - a):
+        n = np.array([math.cos(th), math.sin(th)])  # outward normal, right of travel
+        travel = np.array([-n[1], n[0]])
+        if travel @ (cj - ci) > 0:
+            return ci + ri * n, cj + rj * n
+    raise GeometryError("cannot join the lever's features by a tangent")
+
+
+def fan_outline(items: list[tuple]) -> Contour:
+    """A closed CCW outline through features taken in angular order about their mean point:
+    working arcs (centre, radius, (a, b)) kept whole, bosses (centre, radius, None) wrapped
+    from the incoming to the outgoing tangent, consecutive features joined by outer tangents
+    (an arc's end counts as a point). It may be concave; the part check judges its validity."""
+    refs = []
+    for c, r, span in items:
+        c = np.asarray(c, float)
+        refs.append(c + r * np.array([math.cos(0.5 * (span[0] + span[1])), math.sin(0.5 * (span[0] + span[1]))])
+                    if span is not None else c)
+    o = np.mean(refs, axis=0)
+    order = sorted(range(len(items)), key=lambda k: math.atan2(*(refs[k] - o)[::-1]))
+    feats = [items[k] for k in order]
+
+    def ends(f):  # (start disc, end disc) as (centre, radius): an arc's ends are points
+        c, r, span = f
+        c = np.asarray(c, float)
+        if span is None:
+            return (c, r), (c, r)
+        return ((c + r * np.array([math.cos(span[0]), math.sin(span[0])]), 0.0),
+                (c + r * np.array([math.cos(span[1]), math.sin(span[1])]), 0.0))
+
+    n = len(feats)
+    joins = []  # (leave point of feature k, arrive point at feature k+1)
+    for k in range(n):
+        (_, (ce, re)), ((cs, rs), _) = ends(feats[k]), ends(feats[(k + 1) % n])
+        joins.append(_tangent(ce, re, cs, rs))
+    pts, bul = [], []
+    for k, (c, r, span) in enumerate(feats):
+        arrive = joins[k - 1][1]
+        leave = joins[k][0]
+        if span is not None:
+            sweep = span[1] - span[0]
+        else:
+            c = np.asarray(c, float)
+            a0 = math.atan2(arrive[1] - c[1], arrive[0] - c[0])
+            a1 = math.atan2(leave[1] - c[1], leave[0] - c[0])
+            sweep = (a1 - a0) % (2 * math.pi)
+        if sweep > 1e-12:
+            pts += [arrive, leave]
+            bul += [math.tan(sweep / 4), 0.0]
+        else:
+            pts.append(arrive)
+            bul.append(0.0)
+    pts_a, bul_a = np.array(pts), np.array(bul)
+    keep = np.hypot(*(np.roll(pts_a, -1, axis=0) - pts_a).T) > 1e-12 * (1.0 + float(np.max(np.abs(pts_a))))
+    return Contour(pts_a[keep], bul_a[keep], ("lever",) * int(keep.sum()))

@@ -1,0 +1,41 @@
+"""The registry of element kinds: for each ``"type"`` of a scene file, its schema, parser and writer.
+
+Follow a scene file into the code from here: an element ``{"type": "geneva", ...}`` is checked
+against ``resources/schema/geneva.schema.json``, then read by :func:`.geneva.parse` into a
+:class:`~.geneva.Geneva` record, whose ``to_dict`` writes it back. A new element kind is one
+entry of :data:`ELEMENT_KINDS`.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Callable
+
+from ..errors import Problem
+from . import geneva, linkage_parse, rolling_lever
+from .linkage import Linkage
+
+
+@dataclass(frozen=True)
+class ElementKind:
+    """One element type: ``schema`` a file in ``mechsketch.resources.schema``; ``parse(data, path)``
+    returns (the record or None, [Problem]) with ``path`` the element's JSON path in messages;
+    ``dump(record)`` the element's JSON object."""
+
+    type: str
+    schema: str
+    parse: Callable[[dict[str, Any], str], tuple[Any, list[Problem]]]
+    dump: Callable[[Any], dict[str, Any]]
+
+
+#: element type -> its kind, in the order the README lists them
+ELEMENT_KINDS: dict[str, ElementKind] = {
+    "linkage": ElementKind("linkage", linkage_parse.SCHEMA, linkage_parse.parse, Linkage.to_dict),
+    "geneva": ElementKind("geneva", geneva.SCHEMA, geneva.parse, geneva.Geneva.to_dict),
+    "rolling_lever": ElementKind("rolling_lever", rolling_lever.SCHEMA, rolling_lever.parse,
+                                 rolling_lever.RollingLever.to_dict),
+}
+
+
+def element_kind(type_name: str) -> ElementKind | None:
+    """The kind of an element type, or None if this version does not know it."""
+    return ELEMENT_KINDS.get(type_name)
