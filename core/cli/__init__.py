@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING, Any, Callable, Sequence
 
 from ..errors import MechsketchError, Problem, StructureError
 from ..runtime import tune_allocator
+from .design_cmds import add_design_parser
 from .export_cmds import add_export_parser
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -103,6 +104,7 @@ def build_parser() -> argparse.ArgumentParser:
     c.add_argument("--relative-to", dest="relative_to", default=None, metavar="L")
     c.add_argument("--samples", type=int, metavar="N")
     c.add_argument("--csv", metavar="PATH|-", required=True)
+    add_design_parser(sub)
     o = sub.add_parser("open", help="open a scene file in the desktop app")
     o.add_argument("scene", nargs="?")
     return p
@@ -143,6 +145,10 @@ def run(args: argparse.Namespace) -> int:
     from ..io.scene_file import load_scene, validate_file
     from ..workspace import Workspace
 
+    if args.command == "design":
+        from .design_cmds import run_design
+
+        return run_design(args)
     if args.command == "validate":
         from .export_cmds import drawing_problems
 
