@@ -128,16 +128,26 @@ def build(scene_path: str | os.PathLike | None = None, *, dialogs: DialogService
 
 
 def offer_recovery_files(parts: AppParts) -> bool:
-    """If a crashed run left a recovery file, ask whether to restore it; True if restored."""
+    """Offer the recovery files crashed runs left, newest first, one at a time, until one is
+    restored: Yes restores it, No deletes it. Files not asked about (after a restore) stay and are
+    offered at the next start. A file another starting app is offering is skipped. True if restored."""
     pending = parts.autosave.pending()
-    if not pending:
-        return False
-    newest = pending[0]
-    if parts.dialogs.ask_yes_no("Restore unsaved work?",
-                                f"mechsketch did not exit cleanly last time.\n\nRestore {newest.describe()}?\n"
-                                "(No deletes the recovery file.)"):
-        return parts.autosave.restore(newest) is not None
-    newest.discard()
+    for k, recovery in enumerate(pending):
+        if not recovery.claim():
+            continue
+        more = len(pending) - k - 1
+        also = f"\n\n{more} older recovery file(s) will be offered after this one." if more else ""
+        if parts.dialogs.ask_yes_no("Restore unsaved work?",
+                                    f"mechsketch did not exit cleanly.\n\nRestore {recovery.describe()}?\n"
+                                    f"(No deletes the recovery file.){also}"):
+            if parts.autosave.restore(recovery) is not None:
+                if more:
+                    parts.controller.message.emit(
+                        f"restored {recovery.describe()}; {more} older recovery file(s) kept in "
+                        f"{parts.autosave.folder}, offered at the next start")
+                return True
+            continue
+        recovery.discard()
     return False
 
 
