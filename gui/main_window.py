@@ -28,6 +28,7 @@ from .controller import SceneController
 from .dialogs import DialogService
 from .selection import ELEMENT
 from .file_ops import FileOps
+from .help.actions import HelpCommands
 from .panels.diagnostics import DiagnosticsPanel
 from .panels.properties import PropertiesPanel
 
@@ -226,6 +227,9 @@ class MainWindow(QMainWindow):
         if self.parts.zoom_fit is not None:
             self.actions["zoom_fit"] = self.parts.zoom_fit
         self._action("about", "&About mechsketch", self.about)
+        # -- help (issue 24 item 8): Manual (F1, context help), Getting Started, Shortcuts
+        self.help = HelpCommands(self)
+        self.actions.update(self.help.actions)
         for name in self.file_ops.examples():
             self._action(f"example:{name}", name.replace("_", " "),
                          lambda name=name: self.file_ops.open_example(name), tip=f"Open the example {name}")
@@ -265,6 +269,8 @@ class MainWindow(QMainWindow):
             examples.addAction(a[f"example:{name}"])
         self._add_extra(examples, "examples")
         help_menu = bar.addMenu("&Help")
+        help_menu.addActions([a["manual"], a["getting_started"], a["shortcuts"]])
+        help_menu.addSeparator()
         help_menu.addAction(a["about"])
 
     def _add_extra(self, menu: QMenu, key: str) -> None:
