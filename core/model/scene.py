@@ -13,8 +13,9 @@ from ..errors import UnknownIdError
 
 FORMAT = "mechsketch.scene"
 #: 2: a linkage's driver states its ``kind`` (crank, cylinder, slider) and may carry a stroke and
-#: a motion law; version 1 files are migrated on reading (core/io/scene_file.py)
-SCHEMA_VERSION = 2
+#: a motion law; version 1 files are migrated on reading (core/io/scene_file.py).
+#: 3: new element kinds and optional fields (underlays); version 2 files migrate unchanged
+SCHEMA_VERSION = 3
 
 
 class Element(Protocol):
