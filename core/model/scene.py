@@ -1,6 +1,6 @@
 """A scene: the user's document, an ordered tuple of elements with unique ids.
 
-Element types (``linkage``, ``geneva``, ``rolling_lever``) are immutable records with an ``id``,
+Element types (``linkage``, ``geneva``, ``rolling_lever``, ``underlay``) are immutable records with an ``id``,
 a ``type`` and ``to_dict()``. Each type's schema, parser and writer are registered in
 :data:`~.kinds.ELEMENT_KINDS`.
 """
