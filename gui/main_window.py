@@ -28,7 +28,10 @@ from .controller import SceneController
 from .dialogs import DialogService
 from .selection import ELEMENT
 from .file_ops import FileOps
+from .clipboard import ClipboardCommands
+from .drops import DropTarget
 from .help.actions import HelpCommands
+from .underlays import UnderlayCommands
 from . import units
 from .preferences import Preferences, apply_preferences, load_preferences, part_options, save_preferences
 from .panels.diagnostics import DiagnosticsPanel
@@ -143,6 +146,7 @@ class MainWindow(QMainWindow):
         apply_preferences(self.preferences, self, autosave=False)   # the app sets the interval it starts with
 
         # -- wiring -------------------------------------------------------------------------
+        self.drops = DropTarget(self)   # scene files open, drawings and pictures become underlays
         controller.message.connect(self.show_message)
         controller.solveFailed.connect(self._on_solve_failed)
         controller.pathChanged.connect(self.update_title)
@@ -239,6 +243,11 @@ class MainWindow(QMainWindow):
         keys = [QKeySequence("Ctrl+,")] + [k for k in QKeySequence.keyBindings(K.Preferences)
                                            if k.toString() != "Ctrl+,"]
         prefs.setShortcuts(keys)
+        # -- clipboard, underlays (issue 24 item 10, issue 22 item 6): Ctrl+C/V/D, Import Underlay
+        self.clipboard_commands = ClipboardCommands(self)
+        self.underlay_commands = UnderlayCommands(self, self.dialogs)
+        self.actions.update(self.clipboard_commands.actions)
+        self.actions.update(self.underlay_commands.actions)
         # -- help (issue 24 item 8): Manual (F1, context help), Getting Started, Shortcuts
         self.help = HelpCommands(self)
         self.actions.update(self.help.actions)
@@ -252,16 +261,21 @@ class MainWindow(QMainWindow):
         file_menu = bar.addMenu("&File")
         file_menu.addActions([a["new"], a["open"]])
         self.recent_menu = QMenu("Open &Recent", self)
+        self.recent_menu.setToolTipsVisible(True)   # each entry's full path on hover
         file_menu.addMenu(self.recent_menu)
         file_menu.addActions([a["save"], a["save_as"]])
         file_menu.addSeparator()
         file_menu.addActions([a["export_dxf"], a["export_svg"], a["export_png"], a["export_csv"]])
+        file_menu.addSeparator()
+        file_menu.addAction(a["import_underlay"])
         self._add_extra(file_menu, "file")
         file_menu.addSeparator()
         file_menu.addAction(a["quit"])
         self._fill_recent()
         edit = bar.addMenu("&Edit")
         edit.addActions([a["undo"], a["redo"]])
+        edit.addSeparator()
+        edit.addActions([a["copy"], a["paste"], a["duplicate"]])
         if "delete" in a:
             edit.addSeparator()
             edit.addAction(a["delete"])
@@ -269,6 +283,7 @@ class MainWindow(QMainWindow):
         edit.addAction(a["preferences"])
         view = bar.addMenu("&View")
         view.addActions(self.parts.view_actions)
+        view.addMenu(self.underlay_commands.menu(self))
         self._add_extra(view, "view")
         if self.parts.animation_actions:
             animation = view.addMenu("&Animation")
@@ -322,6 +337,7 @@ class MainWindow(QMainWindow):
         for k, path in enumerate(recent):
             action = self.recent_menu.addAction(f"&{k + 1} {Path(path).name}")
             action.setStatusTip(path)
+            action.setToolTip(path)
             action.triggered.connect(lambda _c=False, p=path: self.file_ops.open_recent(p))
         if recent:
             self.recent_menu.addSeparator()

@@ -38,21 +38,22 @@ class Placement:
     angle_deg: float = 0.0
     offset: XY = (0.0, 0.0)
 
-    def _ab(self) -> tuple[float, float]:
+    def linear(self) -> tuple[float, float]:
+        """(a, b): the placement's linear part is [[a, -b], [b, a]] (a = scale·cos, b = scale·sin)."""
         t = math.radians(self.angle_deg)
         return self.scale * math.cos(t), self.scale * math.sin(t)
 
     def to_world(self, xy: np.ndarray) -> np.ndarray:
         """(N, 2) source points -> (N, 2) world points, mm."""
         p = np.asarray(xy, dtype=float).reshape(-1, 2)
-        a, b = self._ab()
+        a, b = self.linear()
         return np.column_stack([self.offset[0] + a * p[:, 0] - b * p[:, 1],
                                 self.offset[1] + b * p[:, 0] + a * p[:, 1]])
 
     def to_source(self, xy: np.ndarray) -> np.ndarray:
         """(N, 2) world points (mm) -> (N, 2) source points (the inverse of :meth:`to_world`)."""
         p = np.asarray(xy, dtype=float).reshape(-1, 2) - np.asarray(self.offset, dtype=float)
-        a, b = self._ab()
+        a, b = self.linear()
         k = a * a + b * b
         return np.column_stack([(a * p[:, 0] + b * p[:, 1]) / k, (-b * p[:, 0] + a * p[:, 1]) / k])
 

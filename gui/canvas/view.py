@@ -42,6 +42,7 @@ from .items import DeadPointItem, LinkageItem, OverlayItem, TraceItem
 from .rolling_items import RollingItem
 from .toolbox import ToolBox
 from .tools import ToolContext, delete_selection
+from .underlay_item import UnderlayLayer   # underlays (issue 22 item 6)
 from .view_input import PICK_PX, CanvasInput  # noqa: F401 - PICK_PX re-exported
 
 SCALE_RANGE = (0.02, 400.0)   # pixels per millimetre
@@ -106,6 +107,7 @@ class CanvasView(QGraphicsView):
         self._scene.setSceneRect(-WORLD, -WORLD, 2 * WORLD, 2 * WORLD)
         self._scene.setItemIndexMethod(QGraphicsScene.ItemIndexMethod.NoIndex)
         self.setScene(self._scene)
+        self.underlays = UnderlayLayer(self._scene)   # drawings and pictures under everything, snapped to
         self._items: dict[str, _ElementItems] = {}
         #: Geneva drives and rolling levers: one item each, rebuilt when their result changes
         self.element_items: dict[str, GenevaItem | RollingItem] = {}
@@ -238,6 +240,9 @@ class CanvasView(QGraphicsView):
             return raw
         if hit is not None and hit.kind == "joint" and not self.toolbox.tool.busy:
             return self.ctx.at(hit.element, hit.id)
+        near = self.underlays.snap(raw, PICK_PX * self.px())   # a vertex of a visible underlay
+        if near is not None:
+            return near
         s = self.snap_step()
         return (round(raw[0] / s) * s + 0.0, round(raw[1] / s) * s + 0.0)
 
@@ -286,6 +291,7 @@ class CanvasView(QGraphicsView):
                 and len(old[2]) == len(key[2]) and all(a[1] is b[1] for a, b in zip(old[2], key[2]))):
             return
         self._key = key
+        self.underlays.sync(ctl.scene)
         self._sync_elements()
         poses = self.ctx.poses()
         live = {p.element for p in poses}
@@ -373,7 +379,7 @@ class CanvasView(QGraphicsView):
                 rect = rect.united(QRectF(min(xs), min(ys), max(xs) - min(xs), max(ys) - min(ys)))
         for item in self.element_items.values():
             rect = rect.united(item.extent())
-        return rect
+        return rect.united(self.underlays.extent())
 
     def zoom_to_fit(self, quiet: bool = False) -> None:
         """Show the whole mechanism (its motion included) with a margin."""
