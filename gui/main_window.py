@@ -33,7 +33,8 @@ from .drops import DropTarget
 from .help.actions import HelpCommands
 from .underlays import UnderlayCommands
 from . import units
-from .preferences import Preferences, apply_preferences, load_preferences, part_options, save_preferences
+from .preferences import (Preferences, apply_preferences, load_preferences, open_preferences_dialog, part_options,
+                          store_preferences)
 from .panels.diagnostics import DiagnosticsPanel
 from .panels.properties import PropertiesPanel
 
@@ -466,32 +467,14 @@ class MainWindow(QMainWindow):
         self.show_message(message)
         self.dialogs.error("Export DXF", f"{message}\n\nThe scene is not affected.")
 
-    # -- preferences -------------------------------------------------------------------------
+    # -- preferences (gui/preferences.py) --------------------------------------------------------
     def open_preferences(self) -> None:
         """Edit › Preferences: the dialog (window-modal, not blocking); OK stores and applies."""
-        from .preferences import PreferencesDialog
-
-        if self.preferences_dialog is not None and self.preferences_dialog.isVisible():
-            self.preferences_dialog.raise_()
-            return
-        dlg = PreferencesDialog(self.preferences, self)
-        dlg.accepted.connect(lambda: self.set_preferences(dlg.value()))
-        self.preferences_dialog = dlg
-        dlg.open()
+        open_preferences_dialog(self)
 
     def set_preferences(self, prefs: Preferences) -> bool:
-        """Store ``prefs`` in the settings file and apply them; False (with the reason) if a value
-        is out of range."""
-        problems = prefs.problems()
-        if problems:
-            self.dialogs.error("Preferences", "Not saved: " + "; ".join(problems))
-            return False
-        save_preferences(self.file_ops.settings, prefs)
-        apply_preferences(prefs, self)
-        self.preferences = prefs
-        self.show_message(f"preferences saved: lengths in {prefs.length_unit}, angles in "
-                          f"{'°' if prefs.angle_unit == 'deg' else 'rad'}, speeds in {prefs.speed_unit}")
-        return True
+        """Store ``prefs`` in the settings file and apply them (False, with the reason, if not)."""
+        return store_preferences(self, prefs)
 
     def about(self) -> None:
         from importlib.metadata import PackageNotFoundError, version
