@@ -14,7 +14,9 @@ from ..errors import UnknownIdError
 FORMAT = "mechsketch.scene"
 #: 2: a linkage's driver states its ``kind`` (crank, cylinder, slider) and may carry a stroke and
 #: a motion law; version 1 files are migrated on reading (core/io/scene_file.py).
-#: 3: new element kinds and optional fields (underlays); version 2 files migrate unchanged
+#: 3: a linkage may carry an optional ``drawing`` block (plate sizes for its cut-ready parts), and
+#: new element kinds (underlays...); every version 2 file is a version 3 file (the migration only
+#: changes the number)
 SCHEMA_VERSION = 3
 
 
