@@ -326,7 +326,7 @@ class UnderlayCommands(QObject):
 
     # -- show, remove --------------------------------------------------------------------------
     def toggle_visible(self) -> None:
-        """Show every underlay if any is hidden... as the action's check says; one undo step."""
+        """Show or hide every underlay, as the action's check mark now says; one undo step."""
         on = self.actions["show_underlays"].isChecked()
         self.set_visible(on)
 

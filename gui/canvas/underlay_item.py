@@ -21,6 +21,14 @@ Z_UNDERLAY = -100.0
 LINE = QColor("#5b6f99")
 
 
+def world_array(u: Underlay, source: np.ndarray) -> np.ndarray:
+    """(N, 2) source points of ``u`` -> (N, 2) world points, mm (its placement, with numpy)."""
+    a, b = u.placement.linear()
+    ox, oy = u.placement.offset
+    x, y = source[:, 0], source[:, 1]
+    return np.column_stack([ox + a * x - b * y, oy + b * x + a * y])
+
+
 def image_transform(u: Underlay) -> QTransform:
     """Maps a picture's pixel (i, j), j down from its top row, to world mm."""
     pl = u.placement
@@ -43,6 +51,7 @@ class UnderlayItem(QGraphicsItem):
         self._image: QImage | None = None
         self._image_key: object = None
         self._rect = QRectF()
+        self._source: tuple[object, list[np.ndarray]] = (None, [])   # the paths as arrays, by identity
         self.points = np.zeros((0, 2))
         self.set_underlay(underlay)
 
@@ -60,13 +69,16 @@ class UnderlayItem(QGraphicsItem):
                 self._image_key = u.image.data
             self.points = np.zeros((0, 2))
         else:
+            if self._source[0] is not u.paths:      # a move or a scale keeps the paths: arrays kept
+                self._source = (u.paths, [np.asarray(p, dtype=float) for p in u.paths])
+            world = [world_array(u, src) for src in self._source[1]]
             path = QPainterPath()
-            for pts in u.world_paths():
+            for pts in world:
                 path.moveTo(QPointF(*pts[0]))
                 for x, y in pts[1:]:
                     path.lineTo(QPointF(x, y))
             self._path = path
-            self.points = u.world_points()
+            self.points = np.concatenate(world) if world else np.zeros((0, 2))
         self.setVisible(u.visible)
         self.update()
 

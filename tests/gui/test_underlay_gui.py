@@ -63,7 +63,7 @@ def test_import_place_by_two_points_and_undo(shell, qtbot, frame_dxf):
     user.click((200.0 + 2 * px, -100.0 - 2 * px))       # near a corner: it snaps to it
     user.click((320.0 - 3 * px, -100.0 + 1 * px))
     (placed,) = underlays(parts)
-    pts = placed.world_paths()[0]
+    pts = np.array(placed.world_paths()[0])
     assert pts[0] == pytest.approx([200.0, -100.0], abs=1e-9)        # the first point stays
     assert math.dist(pts[0], pts[1]) == pytest.approx(240.0, rel=1e-12)
     assert c.undo_stack.count() == 2
@@ -199,7 +199,7 @@ def test_placing_refuses_coinciding_points_and_a_cancelled_distance(shell, qtbot
     assert not cmds.place(u.id, (200.0, -100.0), (320.0, -100.0))   # the dialog answers Cancel
     assert underlays(parts) == [u]
     assert cmds.place(u.id, (200.0, -100.0), (320.0, -100.0), 60.0)
-    assert np.ptp(underlays(parts)[0].world_points()[:, 0]) == pytest.approx(60.0, rel=1e-12)
+    assert np.ptp(np.array(underlays(parts)[0].world_points())[:, 0]) == pytest.approx(60.0, rel=1e-12)
 
 
 def test_an_underlay_is_named_after_its_file():
