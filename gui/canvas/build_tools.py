@@ -214,7 +214,7 @@ class SliderTool(_DyadTool):
         out = list(self._picked)
         if self._guide is not None and self._picked:
             el = self._picked[0].element
-            if el in self.ctx.controller.scene.ids and self._guide[0] != self.ctx.linkage(el).ground:
+            if self.ctx.has_linkage(el) and self._guide[0] != self.ctx.linkage(el).ground:
                 out.append(Hit(el, "link", self._guide[0]))
         return out
 

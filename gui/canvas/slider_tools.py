@@ -71,8 +71,11 @@ class _GuideTool(Tool):
         self._el: str | None = None
         self._guides: list[tuple[str, XY]] = []
 
+    def refers_to(self) -> set[str]:
+        return super().refers_to() | ({self._el} if self._el is not None else set())
+
     def picks(self) -> list[Hit]:
-        if self._el is None or self._el not in self.ctx.controller.scene.ids:
+        if self._el is None or not self.ctx.has_linkage(self._el):
             return []
         lk = self.ctx.linkage(self._el)
         return [Hit(self._el, "link", g) for g, _ in self._guides if g != lk.ground]

@@ -59,6 +59,15 @@ class SelectTool(Tool):
     def busy(self) -> bool:
         return self._dragging and self._mode in ("joint", "link", "input")
 
+    def refers_to(self) -> set[str]:
+        h = self._press.hit if self._press is not None else None
+        return {h.element} if h is not None else set()
+
+    def stale(self) -> str | None:
+        if self._dragging and self._mode in ("joint", "link") and not self.ctx.controller.workspace.previewing:
+            return "the drag was interrupted (an edit, undo or another document)"
+        return super().stale()
+
     def cancel(self) -> None:
         if self._dragging and self._mode in ("joint", "link"):
             self.ctx.controller.end_preview(None)

@@ -29,7 +29,7 @@ from PySide6.QtWidgets import QGraphicsScene, QGraphicsView, QWidget
 
 from mechsketch.core.model.edits import RemoveElement
 from mechsketch.core.model.linkage import JointKind, Linkage
-from mechsketch.core.workspace import GenevaResult
+from mechsketch.core.workspace import ElementChange, GenevaResult
 
 from ..selection import ELEMENT
 from ..frames import map_frame
@@ -130,8 +130,10 @@ class CanvasView(QGraphicsView):
         self.setCursor(Qt.CursorShape.ArrowCursor)
         self._make_actions()
 
-        controller.changed.connect(self._sync)
         controller.documentReplaced.connect(self._on_replaced)
+        controller.changed.connect(self._forget_removed)
+        controller.changed.connect(self._sync)
+        controller.previewInterrupted.connect(self.cancel_tool)
         controller.frameChanged.connect(self._on_frame)
         controller.selectionChanged.connect(self._highlight)
         self._sync()
@@ -270,8 +272,17 @@ class CanvasView(QGraphicsView):
         self.controller.message.emit(f"tracing {names}" if on else f"not tracing {names}")
 
     def _on_replaced(self) -> None:
-        """A different document (New, Open, restore): fit it once its items exist."""
+        """A different document (New, Open, restore): every tool starts again (the select tool
+        active), and the view fits the document once its items exist."""
+        self._input.forget(None)
+        self.toolbox.set_tool("select")
         self._fit_pending = True
+
+    def _forget_removed(self, change) -> None:
+        """Tools and drags that refer to a removed element start again."""
+        gone = {eid for eid, how in change.elements if how is ElementChange.REMOVED}
+        if gone and not change.replaced:
+            self._input.forget(gone)
 
     def _sync(self, *_args) -> None:
         """Rebuild items after the document or its solutions changed (cheap when nothing did)."""

@@ -184,6 +184,22 @@ class CanvasInput:
             view.dragFinished.emit()
             self._show_frame()
 
+    def forget(self, gone: set[str] | frozenset[str] | None = None) -> None:
+        """Elements ``gone`` were removed (None: the document was replaced): every tool, handle
+        and load drag that refers to one of them starts again, and a drag ends."""
+        view = self._view
+        for tool in view.toolbox.tools.values():
+            tool.forget(gone)
+        view.extras.handles.forget(gone)
+        view.extras.loads.forget(gone)
+        if self.hover is not None and (gone is None or self.hover.element in gone):
+            self.hover = None
+        self._overlay.set_overlay(view.toolbox.tool.overlay())
+        if self._busy and not (view.toolbox.tool.busy or view.extras.handles.busy or view.extras.loads.busy):
+            self._busy = False
+            view.dragFinished.emit()
+            self._show_frame()
+
     def _select_element(self, ev: CanvasEvent) -> bool:
         """With the select tool, a click on a Geneva drive or rolling lever (no joint or link
         under it) selects the element (Shift toggles it); True if the click was taken."""
