@@ -26,10 +26,12 @@ from mechsketch.core.solver.diagnostics import Diagnostics
 from mechsketch.core.workspace import Change, ElementResult, GenevaResult, LinkageResult, RollingResult, Workspace
 
 from .frames import map_frame
+from .qtsafe import qt_safe
 
 DEFAULT_SAMPLES = 360
 
 
+@qt_safe
 class EditCommand(QUndoCommand):
     """A QUndoCommand wrapping one reversible core edit."""
 

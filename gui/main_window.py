@@ -30,6 +30,7 @@ from .selection import ELEMENT
 from .file_ops import FileOps
 from .panels.diagnostics import DiagnosticsPanel
 from .panels.properties import PropertiesPanel
+from .qtsafe import qt_safe
 
 
 #: the tool buttons' labels on the toolbar (by action name; tools not listed keep their title)
@@ -87,6 +88,7 @@ class CanvasParts:
 Components = Callable[[SceneController, "MainWindow"], CanvasParts]
 
 
+@qt_safe
 class MainWindow(QMainWindow):
     """The app's window. ``actions`` maps names ("open", "save", "undo", "example:NAME", ...) to
     the QActions, which tests trigger as a user would."""
@@ -482,6 +484,7 @@ class MainWindow(QMainWindow):
         event.accept()
 
 
+@qt_safe
 class _FirstPaint(QWidget):
     """An empty widget that calls ``callback`` (through the event loop) once it has been painted;
     it asks for the size of the widget it stands in for."""
@@ -504,6 +507,7 @@ class _FirstPaint(QWidget):
             QTimer.singleShot(0, self, callback)   # dropped if this widget is gone by then
 
 
+@qt_safe
 class LazyDock(QDockWidget):
     """A dock whose content ``factory()`` makes after the window's first frame: the dock first
     holds an empty widget; when that has been painted (the first frame is on screen), the content

@@ -2,7 +2,7 @@
 
 Folders and files of ``gui/``, lowest first:
 
-- **base** — ``frames.py``, ``qpath.py``, ``selection.py`` (and the package itself): helpers every
+- **base** — ``frames.py``, ``qpath.py``, ``qtsafe.py``, ``selection.py`` (and the package itself): helpers every
   part reads (frames and samples, array-to-path code, selection keys); they import no other GUI
   module but each other;
 - **controller** — ``controller.py``, the Qt adapter over the workspace: base only;
@@ -24,7 +24,7 @@ from import_graph import import_cycles
 
 GUI = Path(__file__).resolve().parents[1] / "gui"
 PACKAGE = "mechsketch.gui"
-BASE_FILES = {"__init__.py", "frames.py", "qpath.py", "selection.py"}
+BASE_FILES = {"__init__.py", "frames.py", "qpath.py", "qtsafe.py", "selection.py"}
 RANK = {"base": 0, "controller": 1, "canvas": 2, "panels": 2, "app": 3}
 #: groups of equal rank that must not import each other
 PEERS = {"canvas": "panels", "panels": "canvas"}

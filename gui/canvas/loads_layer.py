@@ -34,6 +34,7 @@ from .events import XY, CanvasEvent
 from .arrows import arrow
 from .items import Overlay, _Item, _pen, _px, _rect_of, _text
 from .pose import ElementPose, to_drawn
+from ..qtsafe import qt_safe
 
 LOAD = QColor("#c2255c")
 SPRING = QColor("#2f9e44")
@@ -253,6 +254,7 @@ def _zigzag(a: XY, b: XY, px: float) -> QPainterPath:
     return path
 
 
+@qt_safe
 class LoadsItem(_Item):
     """Draws the records of :meth:`LoadLayer.records` (forces, torques, springs, dampers, handles)."""
 

@@ -43,6 +43,7 @@ from .rolling_items import RollingItem
 from .toolbox import ToolBox
 from .tools import ToolContext, delete_selection
 from .view_input import PICK_PX, CanvasInput  # noqa: F401 - PICK_PX re-exported
+from ..qtsafe import qt_safe
 
 SCALE_RANGE = (0.02, 400.0)   # pixels per millimetre
 WORLD = 1.0e5                 # the scene spans +-WORLD mm
@@ -81,6 +82,7 @@ class _ElementItems:
         return (self.linkage, self.trace, self.dead)
 
 
+@qt_safe
 class CanvasView(QGraphicsView):
     """The mechanism canvas. See the module docstring for embedding.
 

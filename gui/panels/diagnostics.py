@@ -16,6 +16,7 @@ from mechsketch.core.model.linkage import Linkage
 
 from ..controller import SceneController
 from .lazy import LazyRefresh
+from ..qtsafe import qt_safe
 
 
 def diagnostics_lines(controller: SceneController) -> list[tuple[str, str]]:
@@ -57,6 +58,7 @@ def _element_lines(controller: SceneController, el) -> list[tuple[str, str]]:
     return out
 
 
+@qt_safe
 class DiagnosticsPanel(LazyRefresh, QWidget):
     """Read-only text of :func:`diagnostics_lines`, refreshed when the solutions change — during a
     drag only on the release (the text needs the full diagnostics and the motion classification,
