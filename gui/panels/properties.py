@@ -164,8 +164,12 @@ class PropertiesPanel(QWidget):
         self._refreshers.clear()
         while self._content_layout.count():
             item = self._content_layout.takeAt(0)
-            if item.widget() is not None:
-                item.widget().deleteLater()
+            old = item.widget()
+            if old is not None:   # silenced first: a focused field losing its focus as it goes
+                for w in [old, *old.findChildren(QWidget)]:   # must not commit into another document
+                    w.blockSignals(True)
+                old.hide()
+                old.deleteLater()
         lk = self.linkage()
         eid = element_target(self.controller)
         if eid is not None:

@@ -9,7 +9,8 @@ document reaches the new one.
 from __future__ import annotations
 
 import pytest
-from PySide6.QtCore import Qt
+from PySide6.QtCore import QEvent, Qt
+from PySide6.QtWidgets import QApplication
 
 from app_fakes import DISCARD, shell  # noqa: F401 - fixture
 from canvas_user import User
@@ -183,3 +184,30 @@ def test_ctrl_z_in_the_middle_of_a_drag_undoes_the_document_and_ends_the_drag(ap
     user.release((C[0] + 20.0, C[1] + 20.0))
     assert ctl.scene.element("fourbar") == original
     assert ctl.undo_stack.index() == 0 and ctl.undo_stack.count() == 1   # redo brings E's move back
+
+
+def test_a_field_half_typed_when_the_document_is_replaced_commits_nothing(shell, qtbot):
+    """Found by the monkey: the crank's law set to a table, '1' typed into its points (no Enter),
+    then another example opened: the field lost its focus as the panel was rebuilt and committed
+    into a linkage that was gone (UnknownIdError)."""
+    parts = shell()
+    w, ctl = parts.window, parts.controller
+    w.actions["example:double_rocker"].trigger()
+    props = w.properties
+    law = props.combos["law"]
+    law.setCurrentIndex(law.findData("table") if law.findData("table") >= 0 else law.count() - 1)
+    law.activated.emit(law.currentIndex())
+    edit = props.fields["law.points"]
+    w.activateWindow()
+    qtbot.waitUntil(w.isActiveWindow)
+    edit.setFocus()
+    qtbot.keyClicks(edit, "1")
+    assert edit.hasFocus() and edit.isModified()
+    parts.dialogs.save_changes.append(DISCARD)
+    w.actions["example:rolling_lever_inclined"].trigger()
+    view = w.canvas                          # the user clicks on the canvas at once: the focus moves
+    qtbot.mouseClick(view.viewport(), Qt.MouseButton.LeftButton, pos=view.viewport().rect().center())
+    view.setFocus()
+    QApplication.processEvents()
+    QApplication.sendPostedEvents(None, QEvent.Type.DeferredDelete)
+    assert "double_rocker" not in ctl.scene.ids and ctl.undo_stack.count() == 0
