@@ -96,12 +96,14 @@ class PlotRow(QWidget):
     def set_labels(self, y_label: str, x_label: str, last: bool, si_prefix: bool) -> None:
         """The y-axis title; the x-axis title (shown on the last row only)."""
         left, bottom = self.plot.getAxis("left"), self.plot.getAxis("bottom")
-        left.enableAutoSIPrefix(si_prefix)
+        if left.autoSIPrefix != si_prefix:   # (each call re-renders the axis title)
+            left.enableAutoSIPrefix(si_prefix)
         if left.labelText != y_label:
             self.plot.setLabel("left", y_label)
         if bottom.labelText != x_label:
             self.plot.setLabel("bottom", x_label)
-        bottom.showLabel(last)
+        if bottom.label.isVisible() != last:
+            bottom.showLabel(last)
 
     # -- legend and read-out ------------------------------------------------------------------
     def show_legend(self, at: float | None = None, x_text: str = "") -> None:
