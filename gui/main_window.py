@@ -19,7 +19,7 @@ from typing import Any, Callable
 
 from PySide6.QtCore import QByteArray, QObject, QSize, Qt, QTimer
 from PySide6.QtGui import QAction, QCloseEvent, QKeySequence
-from PySide6.QtWidgets import QDockWidget, QLabel, QMainWindow, QMenu, QVBoxLayout, QWidget
+from PySide6.QtWidgets import QApplication, QDockWidget, QLabel, QMainWindow, QMenu, QVBoxLayout, QWidget
 
 from mechsketch.core import ExportError
 
@@ -30,6 +30,7 @@ from .selection import ELEMENT
 from .file_ops import FileOps
 from .panels.diagnostics import DiagnosticsPanel
 from .panels.properties import PropertiesPanel
+from .input_policy import InputPolicy
 from .qtsafe import qt_safe
 
 
@@ -137,6 +138,11 @@ class MainWindow(QMainWindow):
         self.statusBar().addPermanentWidget(self.frame_label)
 
         # -- wiring -------------------------------------------------------------------------
+        # keyboard and wheel habits (issue 24, items 1-2): Enter in a field gives the keys back to
+        # the canvas; shortcuts beat an unchanged field; the wheel does not edit unfocused boxes
+        self.properties.editingDone.connect(self.canvas.setFocus)
+        self.input_policy = InputPolicy(self)
+        QApplication.instance().installEventFilter(self.input_policy)
         controller.message.connect(self.show_message)
         controller.solveFailed.connect(self._on_solve_failed)
         controller.pathChanged.connect(self.update_title)

@@ -17,7 +17,8 @@ import math
 from dataclasses import replace
 from typing import Callable
 
-from PySide6.QtCore import Qt
+from PySide6.QtCore import Qt, Signal
+from PySide6.QtGui import QKeyEvent
 from PySide6.QtWidgets import (QComboBox, QFormLayout, QFrame, QGroupBox, QHBoxLayout, QLabel, QLineEdit,
                                QScrollArea, QToolButton, QVBoxLayout, QWidget)
 
@@ -32,6 +33,7 @@ from .lazy import defer_preview
 from .linkage_dims import dimensions_box, drive_button, driver_box, link_dimension_rows
 from .loads_panel import joint_friction_row, link_mass_rows, loads_box
 from .rolling_panel import rolling_boxes
+from ..qtsafe import qt_safe
 
 Selection = tuple[str, str, str]
 
@@ -41,8 +43,14 @@ def fmt(value: float) -> str:
     return f"{value:.6f}".rstrip("0").rstrip(".") if math.isfinite(value) else "nan"
 
 
+@qt_safe
 class PropertiesPanel(QWidget):
-    """Edits of the selection and of its linkage, as undo commands through the controller."""
+    """Edits of the selection and of its linkage, as undo commands through the controller.
+
+    ``editingDone`` is emitted when Enter has committed a field (the window gives the keyboard
+    back to the canvas)."""
+
+    editingDone = Signal()
 
     def __init__(self, controller: SceneController, parent: QWidget | None = None) -> None:
         super().__init__(parent)
@@ -74,6 +82,14 @@ class PropertiesPanel(QWidget):
         controller.changed.connect(self._on_changed)
         controller.selectionChanged.connect(self.refresh)
         self.refresh()
+
+    def keyPressEvent(self, event: QKeyEvent) -> None:  # noqa: N802 - Qt override
+        """Enter in a field has committed it (a line edit passes Enter on): editing is done."""
+        if event.key() in (Qt.Key.Key_Return, Qt.Key.Key_Enter):
+            event.accept()
+            self.editingDone.emit()
+            return
+        super().keyPressEvent(event)
 
     # -- what to show ------------------------------------------------------------------------
     def linkage(self) -> Linkage | None:
