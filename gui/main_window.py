@@ -59,7 +59,7 @@ LAYOUT_VERSION = 1
 #: so that the first layout (and the canvas's first zoom to fit) is the one the panel gets
 #: (tests/gui/test_startup_imports.py checks them against the real panel)
 PLOTS_SIZE_HINT = (604, 511)
-PLOTS_MINIMUM_SIZE_HINT = (167, 99)
+PLOTS_MINIMUM_SIZE_HINT = (218, 99)
 
 
 @dataclass
@@ -166,7 +166,7 @@ class MainWindow(QMainWindow):
     def _make_plots(self) -> QWidget:
         from .panels.plots import PlotsPanel
 
-        plots = PlotsPanel(self.controller)
+        plots = PlotsPanel(self.controller, settings=self.file_ops.settings)   # remembers the chosen plots
         plots.add_header_actions([self.actions["export_png"], self.actions["export_csv"]])
         return plots
 

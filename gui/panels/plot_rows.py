@@ -52,7 +52,8 @@ class PlotRow(QWidget):
         self.legend.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Preferred)
         self.widget = pg.PlotWidget(background="w")
         self.widget.setMinimumHeight(ROW_HEIGHT)
-        self.widget.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Expanding)
+        # its size hint (640 x 480) is not a wish: each plot takes ROW_HEIGHT and shares what is left
+        self.widget.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Ignored)
         self.plot: pg.PlotItem = self.widget.getPlotItem()
         self.plot.showGrid(x=True, y=True, alpha=0.25)
         for axis in ("left", "bottom"):   # major ticks only: the minor grid halves the drag frame rate

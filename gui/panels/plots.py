@@ -23,9 +23,9 @@ from pathlib import Path
 import numpy as np
 import pyqtgraph as pg
 from pyqtgraph.exporters import ImageExporter
-from PySide6.QtCore import QRectF, QSize, Qt
-from PySide6.QtGui import QColor, QImage, QPainter, QTextDocument
-from PySide6.QtWidgets import QFrame, QHBoxLayout, QLabel, QScrollArea, QToolButton, QVBoxLayout, QWidget
+from PySide6.QtCore import QRectF, QSettings, QSize, Qt
+from PySide6.QtGui import QAction, QColor, QImage, QPainter, QTextDocument
+from PySide6.QtWidgets import QFrame, QHBoxLayout, QLabel, QMenu, QScrollArea, QToolButton, QVBoxLayout, QWidget
 
 from mechsketch.core import ExportError
 from mechsketch.core.io.atomic import atomic_write
@@ -54,20 +54,32 @@ class PlotsPanel(LazyRefresh, QWidget):
     (curve name -> PlotDataItem) describe what is shown now; ``rows`` keeps every row made.
     """
 
-    def __init__(self, controller: SceneController, parent: QWidget | None = None) -> None:
+    def __init__(self, controller: SceneController, parent: QWidget | None = None,
+                 settings: QSettings | None = None) -> None:
         super().__init__(parent)
         self.controller = controller
+        self.settings = settings
         self.title = QLabel()
         self.title.setObjectName("plotTitle")
         self.title.setWordWrap(True)   # a long title wraps rather than widening the dock
+        self.chooser = QToolButton()
+        self.chooser.setObjectName("plotChooser")
+        self.chooser.setText("Plots")
+        self.chooser.setToolTip("Choose the plots to show (remembered for each kind of element)")
+        self.chooser.setPopupMode(QToolButton.ToolButtonPopupMode.InstantPopup)
+        self.chooser_menu = QMenu(self.chooser)
+        self.chooser.setMenu(self.chooser_menu)
+        self._choices: dict[str, QAction] = {}
+        self._hidden_here: dict[str, list[str]] = {}   # the choices, without a settings file
+        self._hover_x: float | None = None
         self._header = QHBoxLayout()
         self._header.addWidget(self.title, 1)
+        self._header.addWidget(self.chooser)
         self.column = QWidget()
         self.column.setObjectName("plotColumn")
         self._column = QVBoxLayout(self.column)
         self._column.setContentsMargins(0, 0, 0, 0)
         self._column.setSpacing(4)
-        self._column.addStretch(1)
         self.scroll = QScrollArea()
         self.scroll.setObjectName("plotScroll")
         self.scroll.setWidgetResizable(True)
@@ -101,8 +113,49 @@ class PlotsPanel(LazyRefresh, QWidget):
         if row is None:
             row = self.rows[name] = PlotRow(name)
             row.widget.scene().sigMouseClicked.connect(lambda ev, r=row: self._clicked(r, ev))
+            row.widget.scene().sigMouseMoved.connect(lambda pos, r=row: self._hovered(r, pos))
             row.hide()
         return row
+
+    # -- which plots show (remembered per kind of element) ---------------------------------------
+    def hidden(self, kind: str) -> set[str]:
+        """The plots the user switched off for elements of ``kind``."""
+        if self.settings is None:
+            return set(self._hidden_here.get(kind, ()))
+        value = self.settings.value(f"plots/hidden/{kind}", "")
+        return {v for v in (value if isinstance(value, list) else str(value).split(",")) if v}
+
+    def set_shown(self, name: str, on: bool, kind: str | None = None) -> None:
+        """Show (or hide) the plot ``name`` for elements of ``kind`` (default: the kind plotted
+        now); remembered in the settings. The last shown plot cannot be hidden."""
+        kind = kind or self.data.kind
+        hidden = self.hidden(kind)
+        hidden.discard(name) if on else hidden.add(name)
+        if all(n in hidden for n, _ in self.data.rows) and kind == self.data.kind:
+            hidden.discard(name)   # keep one plot: an empty dock says nothing
+        if self.settings is None:
+            self._hidden_here[kind] = sorted(hidden)
+        else:
+            self.settings.setValue(f"plots/hidden/{kind}", ",".join(sorted(hidden)))
+        self.refresh()
+
+    def _fill_chooser(self, data: PlotData) -> None:
+        hidden = self.hidden(data.kind)
+        names = [(n, label) for n, label in data.rows]
+        if [a.data() for a in self._choices.values()] != [n for n, _ in names]:
+            self.chooser_menu.clear()
+            self._choices = {}
+            for name, label in names:
+                act = self.chooser_menu.addAction(label)
+                act.setCheckable(True)
+                act.setData(name)
+                act.toggled.connect(lambda on, n=name: self.set_shown(n, on))
+                self._choices[name] = act
+        for name, act in self._choices.items():
+            if act.isChecked() != (name not in hidden):
+                act.blockSignals(True)
+                act.setChecked(name not in hidden)
+                act.blockSignals(False)
 
     def _show_rows(self, rows: tuple[tuple[str, str], ...]) -> None:
         """Show the rows ``rows`` (name, default y label), top to bottom, sharing their x axis;
@@ -118,7 +171,7 @@ class PlotsPanel(LazyRefresh, QWidget):
             row = self._row(name)
             if self._column.indexOf(row) != k:
                 self._column.removeWidget(row)
-                self._column.insertWidget(k, row)
+                self._column.insertWidget(k, row, 1)
             row.show()
             row.plot.setXLink(first)
             first = first or row.plot
@@ -147,13 +200,17 @@ class PlotsPanel(LazyRefresh, QWidget):
         self._stale = False
         self.data = data = plot_data(self.controller)
         self.title.setText(data.title)
-        if data.rows != self._rows:  # another kind of element: other plots
-            self._show_rows(data.rows)
+        self._fill_chooser(data)
+        hidden = self.hidden(data.kind)
+        rows = tuple(r for r in data.rows if r[0] not in hidden) or data.rows[:1]
+        if rows != self._rows:  # another kind of element, or another choice: other plots
+            self._show_rows(rows)
         by_row: dict[str, list[Curve]] = {name: [] for name, _ in data.rows}
         for s in data.series:
             by_row[s.plot].append(Curve(s.name, s.unit, data.x if s.x is None else s.x, s.y))
         defaults = dict(data.rows)
         rows = self.shown_rows()
+        self._hover_x = None
         self.curves = {}
         for k, row in enumerate(rows):
             row.set_curves(by_row[row.name])
@@ -165,7 +222,7 @@ class PlotsPanel(LazyRefresh, QWidget):
                 row.plot.enableAutoRange(axis="y")
             else:
                 row.plot.setYRange(*lo_hi, padding=0.05)
-            row.show_legend()
+        self._show_values()
         if data.x.size and np.isfinite(data.x).any():
             rows[0].plot.setXRange(float(np.nanmin(data.x)), float(np.nanmax(data.x)), padding=0.02)
         self._move_cursor(self.controller.frame)
@@ -177,6 +234,8 @@ class PlotsPanel(LazyRefresh, QWidget):
             cursor.setVisible(visible)
             if visible:
                 cursor.setValue(float(x[frame]))
+        if self._hover_x is None:
+            self._show_values()   # the legends read the curves at the animation cursor
 
     def frame_at(self, x: float) -> int | None:
         """The assemblable sample whose input angle (°) is nearest ``x``; None if there is none."""
@@ -201,6 +260,30 @@ class PlotsPanel(LazyRefresh, QWidget):
         vb = row.plot.vb
         if vb.sceneBoundingRect().contains(event.scenePos()):
             self.go_to(vb.mapSceneToView(event.scenePos()).x())
+
+    def _hovered(self, row: PlotRow, pos) -> None:
+        """The pointer over a plot: every plot's legend reads its curves at that input."""
+        vb = row.plot.vb
+        if row.isVisible() and vb.sceneBoundingRect().contains(pos):
+            self.read_out(vb.mapSceneToView(pos).x())
+        elif self._hover_x is not None:
+            self.read_out(None)   # off the data (on an axis): back to the animation cursor
+
+    def read_out(self, x: float | None) -> None:
+        """Show every curve's value at the input ``x`` in the legends (None: at the animation
+        cursor)."""
+        self._hover_x = x
+        self._show_values()
+
+    def _show_values(self) -> None:
+        x = self._hover_x
+        if x is None:
+            frame_x = self.data.x if self.data.frame_x is None else self.data.frame_x
+            f = self.controller.frame
+            x = float(frame_x[f]) if 0 <= f < frame_x.size else None
+        unit = "mm" if self.data.x_unit == "mm" else "°"
+        for row in self.shown_rows():
+            row.show_legend(x, f"at {x:.4g} {unit}:" if x is not None else "")
 
     def cursor_x(self) -> float:
         """Where the cursor is (input angle, °; or the element's x)."""
