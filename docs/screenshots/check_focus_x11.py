@@ -1,4 +1,4 @@
-"""Focus, shortcuts and the wheel checked in a real X11 window with real input (not a test).
+"""Focus, shortcuts, the wheel and the Properties' fit checked in a real X11 window (not a test).
 
 Offscreen Qt routes keys and the wheel differently from a window server, so issue 24's items 1-2
 are checked here too: the app runs in an X11 window and ``xdotool`` moves the pointer, clicks,
@@ -25,7 +25,7 @@ os.environ["QT_QPA_PLATFORM"] = "xcb"
 def main() -> int:
     from app_fakes import FakeDialogs   # the test double: no modal dialog blocks the run
     from PySide6.QtCore import QPoint
-    from PySide6.QtWidgets import QApplication
+    from PySide6.QtWidgets import QAbstractButton, QApplication, QLabel, QLineEdit, QWidget
 
     from mechsketch.gui.app import build
 
@@ -85,6 +85,21 @@ def main() -> int:
         xdo("click", button)
     results.append(("the wheel over an unfocused combo box edits nothing",
                     box.currentIndex() == index and ctl.scene.element("fourbar").driver == before))
+    # issue 24 item 5: at 1024 x 700 the Properties of the loaded four-bar fit the dock
+    w.resize(1024, 700)
+    settle()
+    w.size_docks()
+    w.actions["example:fourbar_loaded"].trigger()
+    ctl.set_selection([("loaded_fourbar", "link", "coupler")])
+    settle(1.0)
+    content = w.properties._content
+    width = content.parentWidget().width()
+    scroll = content.parentWidget().parentWidget()
+    cut = [c for c in content.findChildren(QWidget) if c.isVisibleTo(content)
+           and isinstance(c, (QLineEdit, QAbstractButton, QLabel))
+           and c.mapTo(content, QPoint(c.width(), 0)).x() > width + 1]
+    results.append(("Properties fit the dock at 1024 x 700 (no sideways scrolling, nothing cut)",
+                    scroll.horizontalScrollBar().maximum() == 0 and not cut))
     for name, ok in results:
         print(f"{'ok  ' if ok else 'FAIL'} {name}")
     parts.autosave.stop()

@@ -63,7 +63,9 @@ class PropertiesPanel(QWidget):
         self._content_layout.setContentsMargins(0, 0, 0, 0)
         scroll = QScrollArea()
         scroll.setWidgetResizable(True)
-        scroll.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAsNeeded)   # never hide a control
+        # the content fits the dock's width (form rows wrap their field under the label when
+        # narrow): one vertical scroll bar, never a sideways one (issue 24, item 5)
+        scroll.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
         scroll.setFrameShape(QFrame.Shape.NoFrame)
         scroll.setWidget(self._content)
         layout = QVBoxLayout(self)
@@ -209,6 +211,18 @@ class PropertiesPanel(QWidget):
             self._content_layout.addWidget(dimensions_box(self, lk.id))
             self._content_layout.addWidget(loads_box(self, lk.id))
         self._content_layout.addStretch(1)
+        self._fit_width()
+
+    def _fit_width(self) -> None:
+        """Let every row shrink to the dock's width: form rows put their field under the label
+        when narrow, texts wrap, combo boxes elide their longest choice (issue 24, item 5)."""
+        for form in self._content.findChildren(QFormLayout):
+            form.setRowWrapPolicy(QFormLayout.RowWrapPolicy.WrapLongRows)
+        for label in self._content.findChildren(QLabel):
+            label.setWordWrap(True)
+        for box in self._content.findChildren(QComboBox):
+            box.setSizeAdjustPolicy(QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
+            box.setMinimumContentsLength(8)
 
     def _elements_box(self) -> QGroupBox:
         box = QGroupBox("Scene")
