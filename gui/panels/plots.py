@@ -36,7 +36,7 @@ from ..qtsafe import guard_library, qt_safe
 from .lazy import LazyRefresh
 from .linkage_plots import plot_data, robust_range  # noqa: F401 - re-exported
 from .plot_rows import Curve, PlotRow
-from .plot_series import PLOTS, PlotData
+from .plot_series import PLOTS, PlotData, in_display_units
 
 pg.setConfigOptions(antialias=True, background="w", foreground="k")   # the app's look (set on import: the
 # main window imports this module after its first frame, issue 14)
@@ -198,7 +198,7 @@ class PlotsPanel(LazyRefresh, QWidget):
     def refresh(self) -> None:
         """Re-read the controller and redraw every curve."""
         self._stale = False
-        self.data = data = plot_data(self.controller)
+        self.data = data = in_display_units(plot_data(self.controller))   # Edit › Preferences units
         self.title.setText(data.title)
         self._fill_chooser(data)
         hidden = self.hidden(data.kind)
@@ -281,7 +281,7 @@ class PlotsPanel(LazyRefresh, QWidget):
             frame_x = self.data.x if self.data.frame_x is None else self.data.frame_x
             f = self.controller.frame
             x = float(frame_x[f]) if 0 <= f < frame_x.size else None
-        unit = "mm" if self.data.x_unit == "mm" else "°"
+        unit = {"deg": "°"}.get(self.data.x_unit, self.data.x_unit)   # °, rad, mm or in
         for row in self.shown_rows():
             row.show_legend(x, f"at {x:.4g} {unit}:" if x is not None else "")
 
