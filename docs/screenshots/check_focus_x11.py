@@ -1,4 +1,5 @@
-"""Focus, shortcuts, the wheel and the Properties' fit checked in a real X11 window (not a test).
+"""Focus, shortcuts, the wheel, typed input and the Properties' fit checked in a real X11 window
+(not a test).
 
 Offscreen Qt routes keys and the wheel differently from a window server, so issue 24's items 1-2
 are checked here too: the app runs in an X11 window and ``xdotool`` moves the pointer, clicks,
@@ -85,6 +86,19 @@ def main() -> int:
         xdo("click", button)
     results.append(("the wheel over an unfocused combo box edits nothing",
                     box.currentIndex() == index and ctl.scene.element("fourbar").driver == before))
+    # issue 24 item 7: typed coordinates while placing (the box takes the keys, Tab, Enter)
+    xdo("mousemove", *at(w.canvas))
+    w.canvas.setFocus()
+    settle()
+    xdo("key", "g")
+    xdo("type", "10")
+    xdo("key", "Tab")
+    xdo("type", "--", "-20")
+    xdo("key", "Return")
+    joints = [j.at for lk in ctl.linkages() for j in lk.joints]
+    results.append(("typed x, Tab, y, Enter places a ground pivot at (10, -20)", (10.0, -20.0) in joints))
+    results.append(("and the keyboard is the canvas's again", w.canvas.hasFocus()))
+    xdo("key", "s")
     # issue 24 item 5: at 1024 x 700 the Properties of the loaded four-bar fit the dock
     w.resize(1024, 700)
     settle()

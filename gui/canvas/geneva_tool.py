@@ -80,6 +80,9 @@ class GenevaTool(Tool):
         self._centre: XY | None = None
         self._last: XY | None = None
 
+    def anchor(self) -> XY | None:
+        return self._centre
+
     def forget(self, gone=None) -> bool:
         """Also forget the drive just placed (keys 3-9 re-slot it) once it is gone."""
         if gone is None or self.placed in gone:

@@ -113,6 +113,12 @@ class PRPTool(_GuideTool):
         super().reset()
         self._pin: XY | None = None
 
+    def anchor(self) -> XY | None:
+        """The pin is placed along guide 1 from its start; guide 2's start from the pin."""
+        if self._pin is not None:
+            return self._pin
+        return self._guides[0][1] if self._guides else None
+
     def _why(self, g2: tuple[str, XY]) -> str | None:
         (g1, a), (g2id, b) = self._guides[0], g2
         lk = self.ctx.linkage(self._el)

@@ -221,6 +221,11 @@ class Tool:
         """A key typed on the canvas (its text, e.g. "6"); True if the tool used it."""
         return False
 
+    def anchor(self) -> XY | None:
+        """The point the next one is measured from (typed length and angle, Shift-snapping), if
+        the tool has one."""
+        return None
+
     # -- helpers ----------------------------------------------------------------------------
     def _joint_hit(self, ev: CanvasEvent, revolute: bool = True) -> Hit | None:
         h = ev.hit

@@ -286,6 +286,9 @@ class MeasureTool(Tool):
         self._a: XY | None = None
         self._b: XY | None = None
 
+    def anchor(self) -> XY | None:
+        return self._a if self._a is not None and self._b is None else None
+
     def _point(self, ev: CanvasEvent) -> XY:
         h = ev.hit
         return self.ctx.at(h.element, h.id) if h is not None and h.kind == "joint" else ev.pos

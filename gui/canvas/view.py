@@ -41,6 +41,7 @@ from .grid import (BACKGROUND, GRID_AXES, GRID_MAJOR, GRID_MIN_PX, GRID_MINOR,  
 from .items import DeadPointItem, LinkageItem, OverlayItem, TraceItem
 from .rolling_items import RollingItem
 from .toolbox import ToolBox
+from .typed_input import TypedBox
 from .tools import ToolContext, delete_selection
 from .view_input import PICK_PX, CanvasInput  # noqa: F401 - PICK_PX re-exported
 from ..qtsafe import qt_safe
@@ -143,6 +144,10 @@ class CanvasView(QGraphicsView):
         self._sync()
         #: handles of selected Geneva drives / rolling levers, View overlays, centrodes (extras.py)
         self.extras = CanvasExtras(self)
+        #: the inline box for typed coordinates, length and angle (typed_input.py)
+        self.typed = TypedBox(self)
+        self.typed.placed.connect(self._input.place_typed)
+        self.typed.closed.connect(self.setFocus)
 
     # -- actions ------------------------------------------------------------------------------
     def _make_actions(self) -> None:
