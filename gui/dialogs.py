@@ -16,12 +16,15 @@ from PySide6.QtCore import QFileInfo, QMimeDatabase
 from PySide6.QtGui import QAbstractFileIconProvider, QIcon
 from PySide6.QtWidgets import QDialog, QFileDialog, QFileIconProvider, QInputDialog, QMessageBox, QWidget
 
+from .qtsafe import qt_safe
+
 SCENE_FILTER = "mechsketch scenes (*.json);;All files (*)"
 
 #: answers of :meth:`DialogService.ask_save_changes`
 SAVE, DISCARD, CANCEL = "save", "discard", "cancel"
 
 
+@qt_safe
 class SafeIconProvider(QFileIconProvider):
     """A file's icon and type name from its name and kind alone (a stat, never a read)."""
 

@@ -29,6 +29,7 @@ from mechsketch.core.model.linkage import Linkage
 from mechsketch.core.model.rolling_lever import RollingLever
 
 from .export_dialog import ExportRequest
+from .qtsafe import qt_safe
 
 #: the tolerance of fitted curves (mm), as ``mechsketch export`` uses by default
 DEFAULT_TOLERANCE = parts_build.DEFAULT_TOLERANCE
@@ -45,6 +46,7 @@ class _Signals(QObject):
     done = Signal()
 
 
+@qt_safe
 class ExportTask(QRunnable):
     """Export ``element``'s parts to ``path`` as ``request`` says (default: DXF, apart, all
     parts); see the module docstring for the two stages."""

@@ -19,7 +19,7 @@ from typing import Any, Callable
 
 from PySide6.QtCore import QByteArray, QObject, QSize, Qt, QTimer
 from PySide6.QtGui import QAction, QCloseEvent, QKeySequence
-from PySide6.QtWidgets import QDockWidget, QLabel, QMainWindow, QMenu, QVBoxLayout, QWidget
+from PySide6.QtWidgets import QApplication, QDockWidget, QLabel, QMainWindow, QMenu, QVBoxLayout, QWidget
 
 from mechsketch.core import ExportError
 
@@ -37,6 +37,8 @@ from .preferences import (Preferences, apply_preferences, load_preferences, open
                           store_preferences)
 from .panels.diagnostics import DiagnosticsPanel
 from .panels.properties import PropertiesPanel
+from .input_policy import InputPolicy
+from .qtsafe import qt_safe
 
 
 #: the tool buttons' labels on the toolbar (by action name; tools not listed keep their title)
@@ -64,7 +66,7 @@ LAYOUT_VERSION = 1
 #: so that the first layout (and the canvas's first zoom to fit) is the one the panel gets
 #: (tests/gui/test_startup_imports.py checks them against the real panel)
 PLOTS_SIZE_HINT = (604, 511)
-PLOTS_MINIMUM_SIZE_HINT = (167, 99)
+PLOTS_MINIMUM_SIZE_HINT = (218, 99)
 
 
 @dataclass
@@ -94,6 +96,7 @@ class CanvasParts:
 Components = Callable[[SceneController, "MainWindow"], CanvasParts]
 
 
+@qt_safe
 class MainWindow(QMainWindow):
     """The app's window. ``actions`` maps names ("open", "save", "undo", "example:NAME", ...) to
     the QActions, which tests trigger as a user would."""
@@ -148,6 +151,11 @@ class MainWindow(QMainWindow):
 
         # -- wiring -------------------------------------------------------------------------
         self.drops = DropTarget(self)   # scene files open, drawings and pictures become underlays
+        # keyboard and wheel habits (issue 24, items 1-2): Enter in a field gives the keys back to
+        # the canvas; shortcuts beat an unchanged field; the wheel does not edit unfocused boxes
+        self.properties.editingDone.connect(self.canvas.setFocus)
+        self.input_policy = InputPolicy(self)
+        QApplication.instance().installEventFilter(self.input_policy)
         controller.message.connect(self.show_message)
         controller.solveFailed.connect(self._on_solve_failed)
         controller.pathChanged.connect(self.update_title)
@@ -171,7 +179,7 @@ class MainWindow(QMainWindow):
     def _make_plots(self) -> QWidget:
         from .panels.plots import PlotsPanel
 
-        plots = PlotsPanel(self.controller)
+        plots = PlotsPanel(self.controller, settings=self.file_ops.settings)   # remembers the chosen plots
         plots.add_header_actions([self.actions["export_png"], self.actions["export_csv"]])
         return plots
 
@@ -532,6 +540,7 @@ class MainWindow(QMainWindow):
         event.accept()
 
 
+@qt_safe
 class _FirstPaint(QWidget):
     """An empty widget that calls ``callback`` (through the event loop) once it has been painted;
     it asks for the size of the widget it stands in for."""
@@ -554,6 +563,7 @@ class _FirstPaint(QWidget):
             QTimer.singleShot(0, self, callback)   # dropped if this widget is gone by then
 
 
+@qt_safe
 class LazyDock(QDockWidget):
     """A dock whose content ``factory()`` makes after the window's first frame: the dock first
     holds an empty widget; when that has been painted (the first frame is on screen), the content

@@ -31,6 +31,7 @@ from mechsketch.core.model.geneva import Material
 
 from . import units
 from .units import Units
+from .qtsafe import qt_safe
 
 #: materials a new Geneva drive's roller and wheel may be made of: name -> (E MPa, Poisson's ratio)
 MATERIALS: dict[str, tuple[float, float]] = {
@@ -194,6 +195,7 @@ def store_preferences(window: Any, prefs: Preferences) -> bool:
     return True
 
 
+@qt_safe
 class _NoWheelUnlessFocused(QObject):
     """Spin boxes and combo boxes of the dialog change on the wheel only when they have focus."""
 

@@ -21,6 +21,7 @@ from mechsketch.core.model.underlay import Underlay
 
 from ..controller import SceneController
 from .lazy import LazyRefresh
+from ..qtsafe import qt_safe
 
 
 def diagnostics_lines(controller: SceneController) -> list[tuple[str, str]]:
@@ -90,6 +91,7 @@ def underlay_lines(u: Underlay) -> list[tuple[str, str]]:
             ("", "shown; its points snap" if u.visible else "hidden (its points do not snap)")]
 
 
+@qt_safe
 class DiagnosticsPanel(LazyRefresh, QWidget):
     """Read-only text of :func:`diagnostics_lines`, refreshed when the solutions change — during a
     drag only on the release (the text needs the full diagnostics and the motion classification,

@@ -71,6 +71,32 @@ class FakeDialogs:
         return ExportRequest(default_id, fmt)
 
 
+class FakeClock:
+    """A monotonic clock (seconds) the test moves by hand: the animation player's ``clock``."""
+
+    def __init__(self, now: float = 100.0) -> None:
+        self.now = now
+
+    def __call__(self) -> float:
+        return self.now
+
+    def advance(self, seconds: float) -> None:
+        self.now += seconds
+
+
+def play_ticks(player, ticks: int = 3, seconds: float = 0.016) -> FakeClock:
+    """Play ``player`` for ``ticks`` timer ticks of ``seconds`` each on a fake clock (no waiting
+    on wall time: the ticks are called here, as the timer would), then pause it."""
+    clock = FakeClock()
+    player.clock = clock
+    player.play()
+    for _ in range(ticks):
+        clock.advance(seconds)
+        player.tick()
+    player.pause()
+    return clock
+
+
 def stand_in_components(controller, window) -> CanvasParts:
     """Minimal canvas parts (a label, a bare player, an empty bar) for tests of the shell alone."""
     return CanvasParts(QLabel("canvas"), QObject(), QWidget(), tools=[QAction("Select", window)])
