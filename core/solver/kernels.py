@@ -508,7 +508,11 @@ def prp(g1: LinkState, s1: complex, u1_0: complex, g2: LinkState, s2: complex, u
         l0: complex, order: int) -> DyadOut:
     """PRP dyad: link i slides on a guide of g1, link j on a guide of g2, pinned together at L.
 
-    No assembly mode (two lines meet once); singular when the guides are parallel.
+    No assembly mode (two lines meet once), but a side: the guides cross one way in the drawn
+    pose (the sign of det = cross(u1, −u2)); where they turn parallel the pin runs off to
+    infinity and comes back from the other side, which the mechanism cannot reach. So the group
+    assembles only where its guides cross as drawn and are more than PARALLEL_COND from parallel;
+    its margin ``gap`` is det signed that way (negative beyond a parallel pose).
     """
     z1, z2 = g1.point(s1), g2.point(s2)
     u1, u2 = g1.rot * u1_0, g2.rot * u2_0
@@ -516,8 +520,9 @@ def prp(g1: LinkState, s1: complex, u1_0: complex, g2: LinkState, s2: complex, u
     c1, c2 = u1, -u2
     p1, p2, det = solve2(c1, c2, z2 + b2 - z1 - b1)
     cond = np.abs(det)
-    ok = np.isfinite(p1) & (cond > PARALLEL_COND)
-    gap = cond
+    side = 1.0 if cross(np.asarray(u1_0), np.asarray(-u2_0)).item() >= 0.0 else -1.0   # drawn
+    gap = det if side > 0.0 else -det
+    ok = np.isfinite(p1) & (gap > PARALLEL_COND)
     L = z1 + b1 + p1 * u1
     if order >= 1:
         v1 = g1.velocity(s1, z1) + 1j * g1.omega * (L - z1)
