@@ -19,6 +19,7 @@ from ..model.linkage import JointKind, Linkage
 from . import kernels as K
 from .branches import find_branch_points, flip_factor
 from .drive import CrankDrive, find_linear_branch_points, linear_flip, make_drive
+from .memory import reserve as _reserve
 from .motion_law import cycle
 from .solution import Solution, _axis, _c, unwrap_finite
 from .steps import Step
@@ -26,6 +27,9 @@ from .structure import Group, GroupKind, decompose, mobility
 from .tolerances import SINGULAR_REL, TOGGLE_COND, TOUCH_REL
 
 __all__ = ["TOGGLE_COND", "TOUCH_REL", "Plan", "Solution", "Step", "compile_plan", "unwrap_finite"]
+
+#: sweeps of up to this many samples need no reserve (:mod:`.memory`)
+_reserved_for = 255
 
 
 @dataclass
@@ -180,6 +184,8 @@ class Plan:
         branches = self.branch_points(idx)
         start = time.perf_counter()
         inputs = np.asarray(inputs, dtype=float).reshape(-1)
+        if inputs.shape[0] > _reserved_for:
+            _reserve(inputs.shape[0])
         w = self.omega if omega is None else _rate(omega)
         alpha = _rate(alpha)
         states: dict[str, K.LinkState] = {}
