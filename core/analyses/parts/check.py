@@ -22,12 +22,12 @@ import shapely
 from shapely.validation import explain_validity
 
 from ...errors import GeometryError
+from ...model.drawing import DEFAULT_MIN_WEB  # noqa: F401  (re-exported: the default thinnest web, mm)
 from ..contour import Contour
+from .keys import API, Vocabulary, name_of, names_of
 from .outline import ccw
 from .records import CHECK_TOL, Part, PartSet
 
-#: default thinnest web (mm) a part must keep between its holes and its edges
-DEFAULT_MIN_WEB = 1.0
 #: rays cast along the outline for the necks (at most)
 NECK_SAMPLES = 3000
 #: a ray meets the far side head-on when their normals are within this angle (degrees)
@@ -232,19 +232,27 @@ def check_parts(parts: Iterable[Part], min_web: float = DEFAULT_MIN_WEB) -> list
     return [check_part(p, min_web) for p in parts]
 
 
-def require_checked(ps: PartSet, min_web: float = DEFAULT_MIN_WEB) -> list[PartCheck]:
+def failures(ps: PartSet, checks: Sequence[PartCheck], vocab: Vocabulary = API) -> list[str]:
+    """One line per part of ``ps`` that failed its check (``checks`` in the same order): what is
+    wrong and what to change, named as the front end ``vocab`` names it."""
+    web = name_of(ps.web_key, vocab)
+    out = []
+    for p, c in zip(ps.parts, checks):
+        if not c.ok:
+            keys = names_of(p.keys, vocab) if p.keys else "the element's sizes"
+            out.append(f"part {p.name!r}: {'; '.join(c.problems)} (change {keys}, or {web})")
+    return out
+
+
+def require_checked(ps: PartSet, min_web: float = DEFAULT_MIN_WEB, vocab: Vocabulary = API) -> list[PartCheck]:
     """Check every part of ``ps``; :class:`GeometryError` lists each failing part, what is wrong
-    and what to change (its keys, or ``--min-web``)."""
+    and what to change (its keys and the minimum web, named as the front end ``vocab`` does)."""
     if not (math.isfinite(min_web) and min_web >= 0):
         raise GeometryError(f"the minimum web must be a number of millimetres >= 0, got {min_web}")
     checks = check_parts(ps.parts, min_web)
-    bad = [(p, c) for p, c in zip(ps.parts, checks) if not c.ok]
+    bad = failures(ps, checks, vocab)
     if bad:
-        lines = []
-        for p, c in bad:
-            keys = ", ".join(p.keys) if p.keys else "the element's sizes"
-            lines.append(f"part {p.name!r}: {'; '.join(c.problems)} (change {keys}, or the minimum web)")
-        raise GeometryError(f"{ps.element_id!r} cannot be cut as drawn: " + " | ".join(lines))
+        raise GeometryError(f"{ps.element_id!r} cannot be cut as drawn: " + " | ".join(bad))
     return checks
 
 
