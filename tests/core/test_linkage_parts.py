@@ -186,7 +186,7 @@ def test_a_size_is_named_where_it_came_from(options, drawing, message):
 def test_a_web_below_the_minimum_is_refused_before_anything_is_written(tmp_path):
     lk = example("fourbar_crank_rocker")
     ps = linkage_parts(lk, compile_plan(lk), LinkageStyle(boss_radius=5.0, bore_diameter=9.6))
-    with pytest.raises(GeometryError, match=r"part 'ground': thinnest web 0.1999 mm.*drawing.boss_radius"):
+    with pytest.raises(GeometryError, match=r"part 'ground': thinnest web 0.2 mm.*drawing.boss_radius"):
         export_parts(ps, tmp_path / "x.dxf", min_web=1.0)
     assert not (tmp_path / "x.dxf").exists()
     export_parts(ps, tmp_path / "x.dxf", min_web=0.1)

@@ -14,9 +14,9 @@ from ...model.linkage import Linkage
 from ...model.rolling_lever import RollingLever
 from ...solver.plan import Plan, compile_plan
 from .keys import API, Vocabulary, name_of
-from .records import PartSet
 from .geneva import geneva_parts
 from .linkage import LinkageStyle, linkage_parts
+from .records import PartSet
 from .rolling import RollingStyle, rolling_parts
 from ..rolling.synthesis import synthesize
 
