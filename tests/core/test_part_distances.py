@@ -173,7 +173,7 @@ def test_convexity_of_the_plate_shapes():
 def test_a_convex_outline_without_corners_is_at_least_twice_its_smallest_radius_thick():
     """Why the checks skip the necks of stadiums and hulls of bosses when 2R is not below the web:
     the rays cast along every normal never find a chord shorter than 2R (R: the least arc radius)."""
-    from mechsketch.core.analyses.parts.necks import necks
+    from mechsketch.core.analyses.parts.thickness import necks
     from mechsketch.core.analyses.parts.outline import rolling_radius
 
     rng = np.random.default_rng(9)

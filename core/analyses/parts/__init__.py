@@ -16,7 +16,7 @@ This package's ``__init__`` is the one place callers import records and checks f
 - :mod:`.records`: :class:`Part`, :class:`Curve`, :class:`PartSet`;
 - :mod:`.check`: the checks, the thinnest web (how it is measured is said there) and the
   report lines; :mod:`.distance` (exact distances between contours through a spatial index) and
-  :mod:`.necks` (the outline's thickness along its normals) measure it;
+  :mod:`.thickness` (the outline's thickness along its normals) measure it;
 - :mod:`.layout`: :class:`Sheet` and :func:`lay_out`;
 - :mod:`.keys`: what the user can change, named as the front end in use names it.
 """
@@ -24,7 +24,7 @@ from __future__ import annotations
 
 from .check import (DEFAULT_MIN_WEB, PartCheck, check_part, check_parts, check_tolerance, failures, report_lines,
                     require_checked, thinnest_web)
-from .necks import HEAD_ON_DEG, NECK_SAMPLES, necks
+from .thickness import HEAD_ON_DEG, NECK_SAMPLES, necks
 from .keys import API, Vocabulary, name_of, names_of
 from .layout import LAYOUTS, Label, Sheet, lay_out
 from .outline import ccw, circle, contour_bounds, disc_hull, is_circle, rectangle, reversed_contour, stadium

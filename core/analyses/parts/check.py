@@ -7,7 +7,7 @@ The thinnest web of a part is the smallest of
   exact: segment against segment in closed form, the pairs found through a spatial index
   (:mod:`.distance`), so the cost grows as n log n with the number of holes and the result does
   not depend on a polygon's resolution; and
-- the necks of the outline, measured along its normals (:mod:`.necks`); a convex outline without
+- the necks of the outline, measured along its normals (:mod:`.thickness`); a convex outline without
   corners whose smallest arc radius is R is at least 2R thick everywhere (a disc of radius R rolls
   freely inside it), so when 2R is not below the distance between the contours the necks cannot
   be the thinnest web and are not cast.
@@ -32,7 +32,7 @@ from ...model.drawing import DEFAULT_MIN_WEB  # noqa: F401  (re-exported: the de
 from ..contour import Contour
 from .distance import discs_of, nearest_between_contours, pieces_of
 from .keys import API, Vocabulary, name_of, names_of
-from .necks import HEAD_ON_DEG, NECK_SAMPLES, necks  # noqa: F401  (re-exported)
+from .thickness import HEAD_ON_DEG, NECK_SAMPLES, necks  # noqa: F401  (re-exported)
 from .outline import is_convex, rolling_radius
 from .records import Part, PartSet
 
@@ -152,7 +152,8 @@ def check_part(part: Part, min_web: float = DEFAULT_MIN_WEB, tol: float | None =
     problems: list[str] = []
     if not part.contours:
         return PartCheck(part.name, 0.0, math.inf, None, part.deviation, ("it has no contour",))
-    scale = max(1.0, max(float(np.max(np.abs(c.points))) for c in part.contours if len(c.points)))
+    finite = [np.abs(np.asarray(c.points, float)) for c in part.contours]
+    scale = max([1.0] + [float(a[np.isfinite(a)].max()) for a in finite if np.isfinite(a).any()])
     names = _names(part)
     for c, what in zip(part.contours, names):
         problems += _contour_problems(c, what, scale)

@@ -7,8 +7,9 @@ the outline; where it first meets the outline again head-on (the far side's norm
 previous one: that is a corner, not a web) the distance is a material thickness. A hole met
 before the far side interrupts the ray (the material there is measured as the distance between
 the hole and the outline instead). Around the :data:`REFINED` least local minima the rays are then
-cast again, :data:`WINDOW` across one sample spacing, twice (each time 1/((WINDOW − 1)/2) the
-spacing), so a neck is found to within O((h/100)²·curvature) at the cost of a few hundred rays.
+cast again, :data:`WINDOW` across one sample spacing, :data:`ROUNDS` times (each time 1/((WINDOW −
+1)/2) the spacing), so a neck is found to within h/343 of its place (h the first pass's spacing) at
+the cost of a few hundred rays.
 
 The holes a ray may meet are found with a spatial index (shapely's STRtree over their segments'
 exact boxes, queried with each ray cut at its first hit on the outline), so a part with many
@@ -31,7 +32,7 @@ NECK_SAMPLES = 48
 #: local minima refined, rays across each window, rounds of refinement
 REFINED = 6
 WINDOW = 15
-ROUNDS = 2
+ROUNDS = 3
 #: rays × hole segments above which the holes in a ray's way are found with the spatial index
 BRUTE_HITS = 20000
 #: a ray meets the far side head-on when their normals are within this angle (degrees)
@@ -137,8 +138,11 @@ def _hole_hits(p: np.ndarray, n: np.ndarray, reach: np.ndarray, holes: Sequence[
 
 
 def _cast(sg, k_n: int, k_arr: np.ndarray, t_arr: np.ndarray, holes: Sequence[Contour], smin: float):
-    """Rays from (k, t): origins (M, 2), inward normals (M, 2) and the thickness met head-on
-    (M,) mm (inf where the ray meets a corner, a neighbouring segment, a hole or nothing)."""
+    """Rays from (k, t): origins (M, 2), inward normals (M, 2), the thickness met head-on (M,) mm
+    (inf where the ray meets a corner, a neighbouring segment, a hole or nothing) and, for a ray
+    from a vertex that meets the neighbour of the vertex's other segment head-on (a corner: not a
+    web), that distance (M,) (inf elsewhere): the rays just beside such a vertex may be webs, a
+    run narrower than the rays' spacing, so it seeds a refinement."""
     p, n = _inward(sg, k_arr, t_arr)
     s, nrm = ray_hits(p, n, sg, smin=smin)
     first = np.argmin(s, axis=1)
@@ -149,17 +153,21 @@ def _cast(sg, k_n: int, k_arr: np.ndarray, t_arr: np.ndarray, holes: Sequence[Co
     prev = (k_arr - 1) % k_n
     adjacent = (first == k_arr) | (first == (k_arr + 1) % k_n) | (first == prev)
     # a vertex sample (t = 0) also belongs to the previous segment, one at t = 1 to the next
-    adjacent |= (t_arr == 0.0) & (first == (prev - 1) % k_n)
-    adjacent |= (t_arr == 1.0) & (first == (k_arr + 2) % k_n)
+    corner = ((t_arr == 0.0) & (first == (prev - 1) % k_n)) | ((t_arr == 1.0) & (first == (k_arr + 2) % k_n))
     head_on = -(nrm[rows, first] * n).sum(axis=1) >= math.cos(math.radians(HEAD_ON_DEG))
-    return p, n, np.where(np.isfinite(dist) & ~adjacent & head_on, dist, np.inf)
+    seen = np.isfinite(dist) & head_on
+    return (p, n, np.where(seen & ~adjacent & ~corner, dist, np.inf),
+            np.where(seen & ~adjacent & corner, dist, np.inf))
 
 
-def _windows(d: np.ndarray, k_arr: np.ndarray, t_arr: np.ndarray, dt: np.ndarray):
-    """Rays across the windows around the least local minima of ``d`` (sample order): (k, t, dt)."""
+def _windows(d: np.ndarray, seed: np.ndarray, k_arr: np.ndarray, t_arr: np.ndarray, dt: np.ndarray):
+    """Rays across the windows around the least local minima of ``d`` (sample order) and the
+    least vertex seeds (``seed``, see :func:`_cast`): (k, t, dt), or None if there is neither."""
     left, right = np.roll(d, 1), np.roll(d, -1)
     minima = np.nonzero(np.isfinite(d) & (d <= left) & (d <= right))[0]
-    pick = minima[np.argsort(d[minima], kind="stable")[:REFINED]]
+    seeds = np.nonzero(np.isfinite(seed))[0]
+    pick = np.r_[minima[np.argsort(d[minima], kind="stable")[:REFINED]],
+                 seeds[np.argsort(seed[seeds], kind="stable")[:REFINED]]].astype(int)
     if not len(pick):
         return None
     off = np.linspace(-1.0, 1.0, WINDOW)
@@ -168,16 +176,19 @@ def _windows(d: np.ndarray, k_arr: np.ndarray, t_arr: np.ndarray, dt: np.ndarray
     return k, t, np.repeat(dt[pick] * 2.0 / (WINDOW - 1), WINDOW)
 
 
-def _sampling_error(sg, dt: np.ndarray, k_arr: np.ndarray) -> float:
-    """A bound (mm) on how much the first pass can overstate a neck: h²·κ/4 with h the largest
-    spacing of the rays along the outline and κ its largest curvature (the thickness between two
-    arcs grows at most as s²·(κ1 + κ2)/2 away from its minimum; between lines it is exact)."""
+def _sampling_error(sg, dt: np.ndarray, k_arr: np.ndarray, least: float) -> float:
+    """A bound (mm) on how much the first pass can overstate the thinnest neck, whose rays are h
+    apart along the outline (h its largest spacing, κ its largest curvature): along a side the
+    head-on thickness L changes at most as tan 30°·(1 + L·κ) per mm (the far side's normal is
+    within 30° of the ray, and the ray turns with the side's curvature), so a minimum between two
+    rays, or at the end of a run of rays (where they begin to meet a neighbouring segment), is
+    missed by at most h·tan 30°·(1 + L·κ) + h²·κ/4."""
     h = float(np.max(dt * sg.length[k_arr]))
     kappa = float(np.max(np.where(sg.is_arc, 1.0 / np.where(sg.is_arc, sg.radius, 1.0), 0.0)))
-    return h * h * kappa / 4.0
+    return h * math.tan(math.radians(HEAD_ON_DEG)) * (1.0 + least * kappa) + h * h * kappa / 4.0
 
 
-def necks(outer: Contour, holes: Sequence[Contour] = (), samples: int = NECK_SAMPLES, above: float = 0.0
+def necks(outer: Contour, holes: Sequence[Contour] = (), samples: int = NECK_SAMPLES, above: float = math.inf
           ) -> tuple[float, tuple[float, float] | None]:
     """The thinnest neck of an outline (see the module docstring): (thickness mm, midpoint) or
     (inf, None) when no ray meets the outline head-on. ``above`` (mm): a web already known (the
@@ -189,15 +200,16 @@ def necks(outer: Contour, holes: Sequence[Contour] = (), samples: int = NECK_SAM
     k_n = len(oc)
     smin = 1e-9 * max(float(sg.length.sum()), 1.0)
     k_arr, t_arr, dt = _samples(sg, k_n, samples)
-    p, n, d = _cast(sg, k_n, k_arr, t_arr, holes, smin)
+    p, n, d, seed = _cast(sg, k_n, k_arr, t_arr, holes, smin)
     found = [(p, n, d)]
-    rounds = ROUNDS if not float(np.min(d)) - _sampling_error(sg, dt, k_arr) > above else 0
+    least = float(min(np.min(d), np.min(seed)))
+    rounds = ROUNDS if not least - _sampling_error(sg, dt, k_arr, least) > above else 0
     for _ in range(rounds):
-        win = _windows(d, k_arr, t_arr, dt)
+        win = _windows(d, seed, k_arr, t_arr, dt)
         if win is None:
             break
         k_arr, t_arr, dt = win
-        p, n, d = _cast(sg, k_n, k_arr, t_arr, holes, smin)
+        p, n, d, seed = _cast(sg, k_n, k_arr, t_arr, holes, smin)
         found.append((p, n, d))
     p, n, d = (np.concatenate([f[q] for f in found]) for q in range(3))
     if not np.isfinite(d).any():
