@@ -161,23 +161,23 @@ def reference_neck(pts: np.ndarray, rays_per_side: int = 4000) -> float:
     sides = [(pts[k], pts[(k + 1) % k_n]) for k in range(k_n)]
     normal = [np.array([-(b - a)[1], (b - a)[0]]) / np.hypot(*(b - a)) for a, b in sides]
     reach = 4 * float(np.ptp(pts, axis=0).max())
+    segs = shapely.linestrings(np.stack([pts, np.roll(pts, -1, axis=0)], axis=1))
     best = math.inf
+    t = (np.arange(rays_per_side) + 0.5) / rays_per_side
     for k, (a, b) in enumerate(sides):
-        for t in (np.arange(rays_per_side) + 0.5) / rays_per_side:
-            p = a + t * (b - a)
-            ray = shapely.LineString([p + 1e-9 * normal[k], p + reach * normal[k]])
-            hits = []
-            for j, (c, d) in enumerate(sides):
-                x = ray.intersection(shapely.LineString([c, d]))
-                if not x.is_empty and x.geom_type == "Point":
-                    hits.append((math.dist((x.x, x.y), p), j))
-            if not hits:
-                continue
-            s, j = min(hits)
-            if j in (k, (k + 1) % k_n, (k - 1) % k_n):
-                continue
-            if -(normal[j] @ normal[k]) >= math.cos(math.radians(30)):
-                best = min(best, s)
+        p = a + t[:, None] * (b - a)
+        rays = shapely.linestrings(np.stack([p + 1e-9 * normal[k], p + reach * normal[k]], axis=1))
+        x = shapely.intersection(rays[:, None], segs[None, :])          # (rays, sides)
+        point = shapely.get_type_id(x) == 0                               # a single crossing point
+        xy = shapely.get_coordinates(np.where(point, x, shapely.Point(np.nan, np.nan)).ravel(), include_z=False)
+        s = np.hypot(*(xy.reshape(len(t), k_n, 2) - p[:, None, :]).transpose(2, 0, 1))
+        s = np.where(point, s, np.inf)
+        j = np.argmin(s, axis=1)
+        d = s[np.arange(len(t)), j]
+        ok = np.isfinite(d) & ~np.isin(j, [k, (k + 1) % k_n, (k - 1) % k_n])
+        ok &= -(np.array(normal)[j] @ normal[k]) >= math.cos(math.radians(30))
+        if ok.any():
+            best = min(best, float(d[ok].min()))
     return best
 
 
