@@ -12,7 +12,9 @@ import argparse
 import importlib
 
 #: design kind -> the module implementing it (``mechsketch design KIND --help`` lists its options)
-DESIGN_KINDS: dict[str, str] = {}
+DESIGN_KINDS: dict[str, str] = {
+    "geneva": "mechsketch.core.cli.design_geneva",
+}
 
 
 def add_design_parser(sub) -> argparse.ArgumentParser:

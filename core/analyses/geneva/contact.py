@@ -471,6 +471,39 @@ def _validity(c: ContactConstants, cols: dict[str, np.ndarray], eng: np.ndarray,
         invalid_runs=tuple(runs))
 
 
+@dataclass(frozen=True)
+class EngagementTotals:
+    """The per-engagement figures a design needs, without samples (independent of N).
+
+    ``rn_peak`` (N) the largest normal force over the continuous engagement, at progress angle
+    ``u_peak`` (rad); ``pressure_peak`` (MPa) the Hertz p_max there, √(R_n·E*/(π·l·r_p));
+    ``rn_limit`` (N) the validity range's force and ``valid`` whether the whole engagement is in
+    it; ``slip_path`` L_s (mm) and ``life`` (:class:`ArchardLife`), NaN when not ``valid``.
+    """
+
+    rn_peak: float
+    u_peak: float
+    pressure_peak: float
+    rn_limit: float
+    valid: bool
+    slip_path: float
+    life: ArchardLife
+
+
+def engagement_totals(element: "Geneva", model: "ContactModel") -> EngagementTotals:
+    """:class:`EngagementTotals` of ``element``: the same quadrature (Gauss–Legendre per smooth
+    piece) and the same peak search as :func:`contact`, so its figures equal the analysis'."""
+    c = ContactConstants(element, model)
+    rn_lim = normal_force_limit(c)
+    peak, u_peak = peak_normal_force(c)
+    total, pw_drive, pw_brake = _gauss_integrals(c, breakpoints(c), GAUSS_NODES)
+    valid = peak <= rn_lim
+    if not valid:
+        total = pw_drive = pw_brake = math.nan
+    pressure = math.sqrt(peak * c.e_star / (math.pi * c.length * c.rp))
+    return EngagementTotals(peak, u_peak, pressure, rn_lim, valid, total, _archard(element, pw_drive, pw_brake))
+
+
 def _archard(el: "Geneva", pw_drive: float, pw_brake: float) -> ArchardLife:
     """Archard depths (mm) and lives from ∫p̄ dL_s (N/mm² · mm) per flank."""
     k = el.wear.specific_wear_rate  # mm³/(N·m)
