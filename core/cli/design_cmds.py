@@ -14,6 +14,7 @@ import importlib
 #: design kind -> the module implementing it (``mechsketch design KIND --help`` lists its options)
 DESIGN_KINDS: dict[str, str] = {
     "geneva": "mechsketch.core.cli.design_geneva",
+    "rolling": "mechsketch.core.cli.design_rolling",
 }
 
 

@@ -63,6 +63,7 @@ class Relaxation:
     current: float
     needed: float
     unit: str
+    relative: bool = True   # False for a choice (a side, a sign): no percentage is stated
 
     @property
     def change(self) -> float:
@@ -71,7 +72,7 @@ class Relaxation:
 
     def text(self) -> str:
         sign = "+" if self.needed > self.current else "−"
-        rel = f" ({sign}{100 * self.change:.3g} %)" if math.isfinite(self.change) else ""
+        rel = f" ({sign}{100 * self.change:.3g} %)" if math.isfinite(self.change) and self.relative else ""
         return f"{self.name} from {_num(self.current)} to {_num(self.needed)} {self.unit}{rel}".replace(" ''", "")
 
 

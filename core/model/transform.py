@@ -35,7 +35,8 @@ def translated(element: Any, dx: float, dy: float) -> Any:
             drive = Drive(_add(drive.crank_pivot, dx, dy), _add(drive.coupler_point, dx, dy))
         return replace(element,
                        lever_circle=Circle(_add(element.lever_circle.center, dx, dy), element.lever_circle.radius),
-                       slider_circle=Circle(_add(element.slider_circle.center, dx, dy), element.slider_circle.radius),
+                       slider_circle=None if element.slider_circle is None else
+                       Circle(_add(element.slider_circle.center, dx, dy), element.slider_circle.radius),
                        pin=_add(element.pin, dx, dy), rocker_pivot=_add(element.rocker_pivot, dx, dy), drive=drive)
     raise EditError(f"cannot move element {getattr(element, 'id', '?')!r} of type "
                     f"{getattr(element, 'type', type(element).__name__)!r}")
@@ -57,6 +58,8 @@ def extent(element: Any) -> tuple[float, float, float, float]:
         pts = [(cc[0] - 0.6 * r, cc[1] - 0.6 * r), (wc[0] + r, wc[1] + r), (wc[0] - r, wc[1] - r)]
     elif isinstance(element, RollingLever):
         for c in (element.lever_circle, element.slider_circle):
+            if c is None:
+                continue
             pts += [(c.center[0] - c.radius, c.center[1] - c.radius), (c.center[0] + c.radius, c.center[1] + c.radius)]
         pts += [element.pin, element.rocker_pivot]
         if element.drive is not None:

@@ -303,7 +303,8 @@ class RollingResult(_Result):
     ``frame_profile`` (M, 2) mm ground frame and ``slider_profile`` (M, 2) mm slider frame are
     polylines through the synthesis' profile curves; ``bicentrode`` (N+1, 2) mm the locus of P0;
     ``lever_arc`` and ``slider_arc`` (start, end) rad the contact angles u1, u2 over the stroke
-    (lever frame). :attr:`slip_samples`: the slip of pairs D and E accumulated along the stroke,
+    (lever frame; with a slider law ``slider_arc`` is the θ range and ``lever_profile_e`` (M, 2) mm
+    the lever element Π30 in the lever frame). :attr:`slip_samples`: the slip of pairs D and E accumulated along the stroke,
     computed by the synthesis' slip report (the last values are the summary's figures).
     ``error`` holds the core's message when the synthesis failed.
     """
@@ -316,6 +317,8 @@ class RollingResult(_Result):
     bicentrode: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
     lever_arc: tuple[float, float] = (0.0, 0.0)
     slider_arc: tuple[float, float] = (0.0, 0.0)
+    #: with a slider law: the lever element Π30 in the lever frame, (M, 2) mm (else empty)
+    lever_profile_e: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
     error: str | None = None
     exception: MechsketchError | None = field(default=None, repr=False)   # what ``error`` says
     seconds: float = 0.0
@@ -391,6 +394,8 @@ def solve_rolling(element: RollingLever, measures: bool = True) -> RollingResult
         out.frames = _rolling_frames(res, rolling_frame_count(element))
         out.frame_profile = _curve(res.frame_profile(), PROFILE_POINTS)
         out.slider_profile = _curve(res.slider_profile(), PROFILE_POINTS)
+        if element.slider_law is not None:
+            out.lever_profile_e = _curve(res.lever_profile_e(), PROFILE_POINTS)
     except MechsketchError as exc:
         out.error, out.exception = _message(exc), exc.with_traceback(None)
         out.frames = None
