@@ -43,8 +43,14 @@ def _v1_to_v2(doc: dict) -> dict:
     return out
 
 
+def _v2_to_v3(doc: dict) -> dict:
+    """Version 2 -> 3: nothing a version 2 file holds changed meaning (version 3 adds element types
+    and optional blocks), so the document is only restamped."""
+    return {**doc, "schema_version": 3}
+
+
 #: migrations: version v -> function turning a v document into a v+1 document
-MIGRATIONS: dict[int, Callable[[dict], dict]] = {1: _v1_to_v2}
+MIGRATIONS: dict[int, Callable[[dict], dict]] = {1: _v1_to_v2, 2: _v2_to_v3}
 
 
 @functools.lru_cache(maxsize=None)

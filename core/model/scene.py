@@ -14,7 +14,10 @@ from ..errors import UnknownIdError
 FORMAT = "mechsketch.scene"
 #: 2: a linkage's driver states its ``kind`` (crank, cylinder, slider) and may carry a stroke and
 #: a motion law; version 1 files are migrated on reading (core/io/scene_file.py)
-SCHEMA_VERSION = 2
+#: 3: new element types and optional blocks a version 2 reader would refuse (issue 25: gear pairs,
+#: geared Geneva drives, a rolling lever's slider law); a version 2 file is a valid version 3 file
+#: (the migration 2 -> 3 only restamps it)
+SCHEMA_VERSION = 3
 
 
 class Element(Protocol):

@@ -1,6 +1,7 @@
-"""Scene format version 2: version 1 files (kept as fixtures in tests/fixtures/scenes_v1, copies of
-the examples as they shipped before version 2) load unchanged, re-save as version 2 and load back
-equal; the migration leaves its input alone and leaves malformed documents to the schema."""
+"""Scene format versions 2 and 3: version 1 files (kept as fixtures in tests/fixtures/scenes_v1, copies
+of the examples as they shipped before version 2) load unchanged, re-save as the current version and
+load back equal; a version 2 file migrates to 3 unchanged but for its stamp; the migration leaves its
+input alone and leaves malformed documents to the schema."""
 from __future__ import annotations
 
 import copy
@@ -20,18 +21,18 @@ V1 = sorted((Path(__file__).parent.parent / "fixtures" / "scenes_v1").glob("*.js
 
 def test_there_are_version_1_fixtures():
     assert len(V1) >= 11
-    assert SCHEMA_VERSION == 2
+    assert SCHEMA_VERSION == 3
 
 
 @pytest.mark.parametrize("path", V1, ids=lambda p: p.stem)
-def test_a_version_1_file_loads_resaves_as_version_2_and_loads_back_equal(tmp_path, path):
+def test_a_version_1_file_loads_resaves_as_the_current_version_and_loads_back_equal(tmp_path, path):
     raw = json.loads(path.read_text(encoding="utf-8"))
     assert raw["schema_version"] == 1
     scene = load_scene(path)
     out = tmp_path / path.name
     save_scene(scene, out)
     doc = json.loads(out.read_text(encoding="utf-8"))
-    assert doc["schema_version"] == 2
+    assert doc["schema_version"] == SCHEMA_VERSION
     for ed, old in zip(doc["elements"], raw["elements"]):
         if ed["type"] == "linkage":
             assert ed["driver"]["kind"] == "crank"
@@ -63,7 +64,7 @@ def test_migration_does_not_change_its_input():
     before = copy.deepcopy(doc)
     out = migrate(doc)
     assert doc == before
-    assert out["schema_version"] == 2
+    assert out["schema_version"] == SCHEMA_VERSION
 
 
 @pytest.mark.parametrize("elements", [
@@ -89,3 +90,17 @@ def test_a_version_2_driver_must_say_its_kind():
 def test_a_version_2_text_round_trips():
     scene = load_scene(example_path("sixbar_moving_guide"))
     assert loads_scene(dumps_scene(scene)) == scene
+
+
+def test_a_version_2_file_migrates_to_version_3_by_its_stamp_alone():
+    """Version 3 adds element types and optional blocks only: every version 2 example migrates to
+    the same document stamped 3, loads to the same scene, and is saved as version 3."""
+    from mechsketch.resources import example_paths
+
+    for path in example_paths():
+        doc = json.loads(path.read_text(encoding="utf-8"))
+        if doc["schema_version"] != 2:
+            continue
+        out = migrate(doc)
+        assert out == {**doc, "schema_version": 3}
+        assert json.loads(dumps_scene(load_scene(path)))["schema_version"] == 3
