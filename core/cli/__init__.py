@@ -33,6 +33,8 @@ HANDLERS: dict[str, str] = {
     "linkage": "mechsketch.core.cli.linkage_cmds",
     "geneva": "mechsketch.core.cli.geneva_cmds",
     "rolling_lever": "mechsketch.core.cli.rolling_cmds",
+    "gear_pair": "mechsketch.core.cli.gears_cmds",
+    "geared_geneva": "mechsketch.core.cli.gears_cmds",
 }
 
 
@@ -47,7 +49,8 @@ class CliError(MechsketchError, ValueError):
 
 def _kind_words(element_type: str) -> str:
     """An element type in words (``rolling_lever`` -> ``rolling lever``)."""
-    return {"geneva": "Geneva drive"}.get(element_type, element_type.replace("_", " "))
+    return {"geneva": "Geneva drive", "geared_geneva": "geared Geneva drive"}.get(element_type,
+                                                                                   element_type.replace("_", " "))
 
 
 def _commands_for(element_type: str) -> list[str]:

@@ -15,6 +15,7 @@ import importlib
 DESIGN_KINDS: dict[str, str] = {
     "geneva": "mechsketch.core.cli.design_geneva",
     "rolling": "mechsketch.core.cli.design_rolling",
+    "gears": "mechsketch.core.cli.design_gears",
 }
 
 

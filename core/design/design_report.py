@@ -76,10 +76,13 @@ class Relaxation:
         return f"{self.name} from {_num(self.current)} to {_num(self.needed)} {self.unit}{rel}".replace(" ''", "")
 
 
-def infeasible(summary: str, relax: Sequence[Relaxation]) -> DesignError:
-    """A :class:`DesignError` whose message names every relaxation, the least change first."""
+def infeasible(summary: str, relax: Sequence[Relaxation], several: bool = False) -> DesignError:
+    """A :class:`DesignError` whose message names every relaxation, the least change first;
+    ``several``: more than one requirement fails, so each named relaxation mends only its own."""
     options = sorted(relax, key=lambda r: r.change)
-    if options:
+    if options and several:
+        summary = f"{summary}. Each failing requirement needs its own change: " + "; ".join(r.text() for r in options)
+    elif options:
         what = "; or ".join(r.text() for r in options)
         summary = f"{summary}. Relax {options[0].name} (the least change): {what}"
     return DesignError(summary, options)

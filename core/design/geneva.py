@@ -36,7 +36,7 @@ import time
 from dataclasses import dataclass, replace
 from typing import Any
 
-from ..analyses.geneva.contact import EngagementTotals, engagement_totals
+from ..analyses.geneva.contact import CrankMotion, EngagementTotals, engagement_totals
 from ..analyses.geneva.geometry import geometry
 from ..analyses.parts import check_parts
 from ..analyses.parts.geneva import geneva_parts
@@ -105,6 +105,11 @@ class GenevaDesign:
 
     element: Geneva
     report: DesignReport
+
+
+def _tidy(x: float) -> float:
+    """A grid value without the float noise of k·step (53.300000000000004 -> 53.3)."""
+    return float(f"{x:.12g}")
 
 
 def _dwell(z: int) -> float:
@@ -211,9 +216,10 @@ def _check_fields(base: dict) -> None:
 class _Search:
     """Evaluates candidates (A on the resolution grid, r_p the largest the wheel allows)."""
 
-    def __init__(self, req: GenevaRequirements, progress: Progress | None) -> None:
+    def __init__(self, req: GenevaRequirements, progress: Progress | None, crank: CrankMotion | None = None) -> None:
         self.req = req
         self.progress = progress
+        self.crank = crank
         self.evals = 0
         base = req.base
         z = req.slots
@@ -258,18 +264,18 @@ class _Search:
             k -= 1
         if k < first:
             return None
-        if self.drawable(a, k * self.step_r):
-            return k * self.step_r
+        if self.drawable(a, _tidy(k * self.step_r)):
+            return _tidy(k * self.step_r)
         # the exact relief of the locking disc needs more room than the closed-form bound: the
         # largest roller whose drive can be drawn, by bisection on the grid (room shrinks with r_p)
         lo_k, hi_k = first - 1, k
         while hi_k - lo_k > 1:
             mid = (lo_k + hi_k) // 2
-            if self.element(a, mid * self.step_r) is not None and self.drawable(a, mid * self.step_r):
+            if self.element(a, _tidy(mid * self.step_r)) is not None and self.drawable(a, _tidy(mid * self.step_r)):
                 lo_k = mid
             else:
                 hi_k = mid
-        return lo_k * self.step_r if lo_k >= first else None
+        return _tidy(lo_k * self.step_r) if lo_k >= first else None
 
     def drawable(self, a: float, rp: float) -> bool:
         """The drive can be drawn (the exact relief leaves room for the crank bore; ~40 ms)."""
@@ -280,13 +286,13 @@ class _Search:
         return True
 
     def evaluate(self, k: int) -> Candidate:
-        a = k * self.step_a
+        a = _tidy(k * self.step_a)
         self.evals += 1
         rp = self.roller(a)
         if rp is None:
             return Candidate(a, None, None, None, ())
         el = self.element(a, rp)
-        tot = engagement_totals(el, el.model)
+        tot = engagement_totals(el, el.model, self.crank)
         return Candidate(a, rp, el, tot, self.rows(el, tot))
 
     def rows(self, el: Geneva, tot: EngagementTotals, web: float | None = None) -> tuple[Requirement, ...]:
@@ -342,17 +348,19 @@ def _smallest(s: _Search, k_max: int) -> Candidate | None:
     return good
 
 
-def design_geneva(requirements: Any, element_id: str = "geneva", progress: Progress | None = None) -> GenevaDesign:
+def design_geneva(requirements: Any, element_id: str = "geneva", progress: Progress | None = None,
+                  crank: CrankMotion | None = None) -> GenevaDesign:
     """The smallest Geneva drive meeting ``requirements`` (a REQ dict or :class:`GenevaRequirements`).
 
     Returns a :class:`GenevaDesign`; raises :class:`~.design_report.DesignError` (infeasible: the
     message and ``relax`` name what to change and by how much) or
     :class:`~.design_report.DesignCancelled`. Thread-safe; see :mod:`.design_report` for
-    ``progress``.
+    ``progress``. ``crank``: a crank driven at varying speed (the smooth drive's gears), whose
+    loads the contact requirements then use.
     """
     t0 = time.perf_counter()
     req = requirements if isinstance(requirements, GenevaRequirements) else parse_requirements(requirements, element_id)
-    s = _Search(req, progress)
+    s = _Search(req, progress, crank)
     s.tick(0.0, f"z = {req.slots}: searching the centre distance from {s.a_lower:.4g} mm")
     cap = req.max_center_distance
     k_max = math.floor((cap if cap is not None else SEARCH_LIMIT) / s.step_a + 1e-9)
@@ -427,7 +435,8 @@ def _refusal(s: _Search, k_max: int) -> DesignError:
     relax: list[Relaxation] = []
     cap = req.max_center_distance
     if cap is not None:
-        free = _smallest(_Search(replace(req, max_center_distance=None), None), math.floor(SEARCH_LIMIT / s.step_a))
+        free = _smallest(_Search(replace(req, max_center_distance=None), None, s.crank),
+                         math.floor(SEARCH_LIMIT / s.step_a))
         if free is not None:
             relax.append(Relaxation("max_center_distance", cap, free.a, "mm"))
     where = f"at the largest centre distance allowed (A = {at.a:g} mm)" if cap is not None else \
@@ -454,7 +463,7 @@ def _largest_web(s: _Search, k_max: int) -> float | None:
     for _ in range(40):
         mid = 0.5 * (lo + hi)
         base = dict(s.req.base, drawing={"min_web": mid})
-        trial = _Search(replace(s.req, base=base, min_web=mid), None)
+        trial = _Search(replace(s.req, base=base, min_web=mid), None, s.crank)
         trial.step_a, trial.step_r = s.step_a, s.step_r
         if trial.roller(k_max * s.step_a) is not None:
             lo = mid

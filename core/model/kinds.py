@@ -11,7 +11,7 @@ from dataclasses import dataclass
 from typing import Any, Callable
 
 from ..errors import Problem
-from . import geneva, linkage_parse, rolling_lever
+from . import gear_pair, geared_geneva, geneva, linkage_parse, rolling_lever
 from .linkage import Linkage
 
 
@@ -33,6 +33,9 @@ ELEMENT_KINDS: dict[str, ElementKind] = {
     "geneva": ElementKind("geneva", geneva.SCHEMA, geneva.parse, geneva.Geneva.to_dict),
     "rolling_lever": ElementKind("rolling_lever", rolling_lever.SCHEMA, rolling_lever.parse,
                                  rolling_lever.RollingLever.to_dict),
+    "gear_pair": ElementKind("gear_pair", gear_pair.SCHEMA, gear_pair.parse, gear_pair.GearPair.to_dict),
+    "geared_geneva": ElementKind("geared_geneva", geared_geneva.SCHEMA, geared_geneva.parse,
+                                 geared_geneva.GearedGeneva.to_dict),
 }
 
 

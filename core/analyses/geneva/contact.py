@@ -49,7 +49,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
@@ -98,11 +98,21 @@ def _legendre(n: int, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return p1, n * (x * p1 - p0) / (x * x - 1.0)
 
 
+class CrankMotion(Protocol):
+    """A crank that does not turn at constant speed (a Geneva driven through gears): its speed
+    u̇ (rad/s, ≥ 0 in the progress sense) and acceleration ü (rad/s²) at progress angles u."""
+
+    def rates(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]: ...
+
+
 class ContactConstants:
     """The element's constants in the units the formulas use (lengths mm except ``fr`` = f02·r02
-    in m; moduli MPa; ``j2w2`` = J2·ω1² in N·m; ``w1`` = |ω1| rad/s) and the model choices."""
+    in m; moduli MPa; ``j2w2`` = J2·ω1² in N·m; ``w1`` = |ω1| rad/s, the crank's (mean) speed) and
+    the model choices; ``crank`` a :class:`CrankMotion` when the crank's speed varies (then the
+    moment is J2·(ε̃(u)·u̇² + i(u)·ü) + M_ext and the slip speed is taken at u̇), else None."""
 
-    def __init__(self, el: "Geneva", model: "ContactModel") -> None:
+    def __init__(self, el: "Geneva", model: "ContactModel", crank: CrankMotion | None = None) -> None:
+        self.crank = crank
         self.z = el.slots
         self.lam = el.lam
         self.phi0 = el.phi0
@@ -127,10 +137,23 @@ class ContactConstants:
         self.model = model
 
 
+def _wheel_moment(u: np.ndarray, c: ContactConstants, su: np.ndarray, cu: np.ndarray, d: np.ndarray) -> np.ndarray:
+    """J2·ε2 (N·m, indexing sense): J2·ε̃·ω1², or with a varying crank J2·(ε̃·u̇² + i·ü)."""
+    eps = -c.lam * (1.0 - c.lam * c.lam) * su / (d * d)
+    if c.crank is None:
+        return c.j2w2 * eps
+    ud, udd = c.crank.rates(u)
+    j2 = c.j2w2 / (c.w1 * c.w1) if c.w1 else 0.0
+    return j2 * (eps * ud * ud + c.lam * (cu - c.lam) / d * udd)
+
+
 def moment(u: np.ndarray, c: ContactConstants) -> np.ndarray:
-    """M(u) = J2·ε̃(u)·ω1² + M_ext (N·m), indexing sense; shape of ``u``."""
-    d = 1.0 - 2.0 * c.lam * np.cos(u) + c.lam * c.lam
-    return c.j2w2 * (-c.lam * (1.0 - c.lam * c.lam) * np.sin(u) / (d * d)) + c.m_ext
+    """M(u) = J2·ε2(u) + M_ext (N·m), indexing sense (ε2 = ε̃(u)·ω1² for a constant-speed crank);
+    shape of ``u``."""
+    u = np.asarray(u, dtype=float)
+    cu = np.cos(u)
+    d = 1.0 - 2.0 * c.lam * cu + c.lam * c.lam
+    return _wheel_moment(u, c, np.sin(u), cu, d) + c.m_ext
 
 
 def _normal_force(u: np.ndarray, c: ContactConstants) -> tuple[np.ndarray, ...]:
@@ -138,7 +161,7 @@ def _normal_force(u: np.ndarray, c: ContactConstants) -> tuple[np.ndarray, ...]:
     cu, su = np.cos(u), np.sin(u)
     d = 1.0 - 2.0 * c.lam * cu + c.lam * c.lam
     sd = np.sqrt(d)
-    m = c.j2w2 * (-c.lam * (1.0 - c.lam * c.lam) * su / (d * d)) + c.m_ext
+    m = _wheel_moment(u, c, su, cu, d) + c.m_ext
     am = np.abs(m)
     rho_m = c.a * sd * 1e-3
     rn_paper = c.lam * am / (c.r * 1e-3 * sd + c.fr)
@@ -371,16 +394,20 @@ def _gauss_integrals(c: ContactConstants, br: np.ndarray, nodes: int) -> tuple[f
     return float(ls.sum()), float(pw[sign > 0].sum()), float(pw[sign < 0].sum())
 
 
-def contact(element: "Geneva", samples: int, model: "ContactModel") -> GenevaContact:
+def contact(element: "Geneva", samples: int, model: "ContactModel", u: np.ndarray | None = None,
+            crank: CrankMotion | None = None) -> GenevaContact:
     """The contact and wear analysis of ``element`` over one crank revolution of ``samples`` points.
 
-    See the module docstring for the formulas and the validity range, and :class:`GenevaContact`
-    for the result.
+    ``u`` (N,) rad: the progress angles of the rows (increasing, within (−π, π]; default equal steps
+    from −π), e.g. a geared crank's angles at equal times; ``crank``: its :class:`CrankMotion`
+    (default the constant speed of ``element``). See the module docstring for the formulas and the
+    validity range, and :class:`GenevaContact` for the result.
     """
-    c = ContactConstants(element, model)
+    c = ContactConstants(element, model, crank)
     n = int(samples)
     s = 1.0 if element.omega1 > 0 else -1.0
-    u_all = -math.pi + 2.0 * math.pi * np.arange(n, dtype=float) / n
+    u_all = -math.pi + 2.0 * math.pi * np.arange(n, dtype=float) / n if u is None else np.asarray(u, dtype=float)
+    n = len(u_all)
     eng = np.abs(u_all) <= c.phi0 + EDGE_TOL
     ue = np.clip(u_all[eng], -c.phi0, c.phi0)
     br = breakpoints(c)
@@ -439,7 +466,8 @@ def contact(element: "Geneva", samples: int, model: "ContactModel") -> GenevaCon
         else:   # the peak pressure lies where the model does not hold
             p_max = math.nan
     return GenevaContact(
-        phi=phi, u=u_all, engaged=eng, contact_valid=valid, slip_speed=gs * c.w1,
+        phi=phi, u=u_all, engaged=eng, contact_valid=valid,
+        slip_speed=gs * (c.w1 if crank is None else full(crank.rates(ug)[0])),
         slip_speed_invariant=gs / c.rp, slip_path=full(cum), wear_invariant=ti, slip_path_total=total,
         slip_path_total_trapezoid=trapezoid, breaks=br, Rn_max=rn_max, phi_Rn_max=phi_rn,
         pressure_max=p_max, phi_pressure_max=phi_p,
@@ -490,10 +518,11 @@ class EngagementTotals:
     life: ArchardLife
 
 
-def engagement_totals(element: "Geneva", model: "ContactModel") -> EngagementTotals:
-    """:class:`EngagementTotals` of ``element``: the same quadrature (Gauss–Legendre per smooth
-    piece) and the same peak search as :func:`contact`, so its figures equal the analysis'."""
-    c = ContactConstants(element, model)
+def engagement_totals(element: "Geneva", model: "ContactModel", crank: CrankMotion | None = None) -> EngagementTotals:
+    """:class:`EngagementTotals` of ``element`` (``crank``: a varying crank speed, as for
+    :func:`contact`): the same quadrature (Gauss–Legendre per smooth piece) and the same peak
+    search as :func:`contact`, so its figures equal the analysis'."""
+    c = ContactConstants(element, model, crank)
     rn_lim = normal_force_limit(c)
     peak, u_peak = peak_normal_force(c)
     total, pw_drive, pw_brake = _gauss_integrals(c, breakpoints(c), GAUSS_NODES)

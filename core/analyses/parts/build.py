@@ -8,12 +8,15 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ...errors import GeometryError
+from ...model.gear_pair import GearPair
+from ...model.geared_geneva import GearedGeneva
 from ...model.geneva import Geneva
 from ...model.linkage import Linkage
 from ...model.rolling_lever import RollingLever
 from ...solver.plan import Plan, compile_plan
 from .check import DEFAULT_MIN_WEB
 from .records import PartSet
+from .gears import gear_parts
 from .geneva import geneva_parts
 from .linkage import LinkageStyle, linkage_parts
 from .rolling import RollingStyle, rolling_parts
@@ -45,7 +48,9 @@ def min_web_of(element, options: PartOptions) -> float:
     """The minimum web in force for ``element`` (mm)."""
     if options.min_web is not None:
         return options.min_web
-    return element.min_web if isinstance(element, Geneva) else DEFAULT_MIN_WEB
+    if isinstance(element, GearedGeneva):
+        return min(element.geneva.min_web, element.min_web)
+    return element.min_web if isinstance(element, (Geneva, GearPair)) else DEFAULT_MIN_WEB
 
 
 def element_parts(element, options: PartOptions = PartOptions(), plan: Plan | None = None) -> PartSet:
@@ -62,6 +67,8 @@ def element_parts(element, options: PartOptions = PartOptions(), plan: Plan | No
     if isinstance(element, RollingLever):
         return rolling_parts(synthesize(element, measures=False),
                              RollingStyle(depth=options.depth, tolerance=options.tolerance))
+    if isinstance(element, (GearPair, GearedGeneva)):   # issue 25: pitch-curve blanks (and the drive)
+        return gear_parts(element)
     raise GeometryError(f"element {getattr(element, 'id', '?')!r} of type {getattr(element, 'type', '?')!r} "
                         "has no parts to export")
 
@@ -75,4 +82,8 @@ def part_names(element) -> tuple[str, ...]:
         return element.link_ids
     if isinstance(element, RollingLever):
         return ("frame", "frame_pivots", "lever", "slider")
+    if isinstance(element, GearPair):
+        return ("input_gear", "output_gear")
+    if isinstance(element, GearedGeneva):
+        return ("wheel", "locking_disc", "crank_arm", "roller", "input_gear", "output_gear")
     return ()
