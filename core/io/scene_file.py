@@ -44,8 +44,9 @@ def _v1_to_v2(doc: dict) -> dict:
 
 
 def _v2_to_v3(doc: dict) -> dict:
-    """Version 2 -> 3: nothing a version 2 file holds changed meaning (version 3 adds element types
-    and optional blocks), so the document is only restamped."""
+    """Version 2 -> 3: the identity but for the number. Version 3 adds optional content only (a
+    linkage's ``drawing`` block of plate sizes; new element kinds such as ``underlay``), so a
+    version 2 document is already a valid version 3 one."""
     return {**doc, "schema_version": 3}
 
 
