@@ -166,3 +166,14 @@ def test_gear_kinematics_are_the_derivatives_of_the_rotations():
     fd = np.gradient(np.unwrap(kin.output_rotation), dt)
     assert np.abs(fd[2:-2] - kin.omega_out[2:-2]).max() < 1e-5 * np.abs(kin.omega_out).max()
     assert np.abs(np.gradient(kin.omega_out, dt)[2:-2] - kin.alpha_out[2:-2]).max() < 2e-5 * w * w * 10
+
+
+def test_gear_elements_move_and_have_an_extent_for_insert():
+    from mechsketch.core.model.transform import extent, translated
+
+    for name in ("gears_elliptic", "smooth_geneva_z5"):
+        el = load_scene(example_path(name)).elements[0]
+        moved = translated(el, 10.0, -5.0)
+        b0, b1 = extent(el), extent(moved)
+        assert b1 == pytest.approx((b0[0] + 10, b0[1] - 5, b0[2] + 10, b0[3] - 5))
+        assert type(moved).__name__ == type(el).__name__ and moved != el
