@@ -455,16 +455,7 @@ def contact(element: "Geneva", samples: int, model: "ContactModel", u: np.ndarra
     ls_m = total * 1e-3
     ti = cols["Rn"] * (math.pi * c.z / (30.0 * c.w1 * ls_m)) if ls_m > 0 else np.full(n, np.nan)
     life = _archard(element, pw_drive, pw_brake)
-    rn = cols["Rn"]
-    rn_max, phi_rn, p_max, phi_p = 0.0, math.nan, 0.0, math.nan
-    if eng.any() and np.nanmax(rn) > 0:
-        k_rn = int(np.nanargmax(rn))
-        rn_max, phi_rn = float(rn[k_rn]), float(phi[k_rn])
-        if validity.ok:
-            k_p = int(np.nanargmax(cols["contact_pressure"]))
-            p_max, phi_p = float(cols["contact_pressure"][k_p]), float(phi[k_p])
-        else:   # the peak pressure lies where the model does not hold
-            p_max = math.nan
+    rn_max, phi_rn, p_max, phi_p = _peaks(cols, phi, eng, validity.ok)
     return GenevaContact(
         phi=phi, u=u_all, engaged=eng, contact_valid=valid,
         slip_speed=gs * (c.w1 if crank is None else full(crank.rates(ug)[0])),
@@ -473,6 +464,19 @@ def contact(element: "Geneva", samples: int, model: "ContactModel", u: np.ndarra
         pressure_max=p_max, phi_pressure_max=phi_p,
         wear_invariant_max=float(np.nanmax(ti)) if np.isfinite(ti).any() else math.nan,
         life=life, validity=validity, model=model, assumptions=assumptions(element, model), **cols)
+
+
+def _peaks(cols: dict[str, np.ndarray], phi: np.ndarray, eng: np.ndarray, ok: bool) -> tuple[float, ...]:
+    """(R_n max N, its φ, p_max MPa, its φ) over the sampled rows; p_max NaN when the model does
+    not hold everywhere (the peak lies where it does not)."""
+    rn = cols["Rn"]
+    if not (eng.any() and np.nanmax(rn) > 0):
+        return 0.0, math.nan, 0.0, math.nan
+    k_rn = int(np.nanargmax(rn))
+    if not ok:
+        return float(rn[k_rn]), float(phi[k_rn]), math.nan, math.nan
+    k_p = int(np.nanargmax(cols["contact_pressure"]))
+    return float(rn[k_rn]), float(phi[k_rn]), float(cols["contact_pressure"][k_p]), float(phi[k_p])
 
 
 def _validity(c: ContactConstants, cols: dict[str, np.ndarray], eng: np.ndarray, valid: np.ndarray,
