@@ -33,11 +33,31 @@ HANDLERS: dict[str, str] = {
     "linkage": "mechsketch.core.cli.linkage_cmds",
     "geneva": "mechsketch.core.cli.geneva_cmds",
     "rolling_lever": "mechsketch.core.cli.rolling_cmds",
+    "gear_pair": "mechsketch.core.cli.gears_cmds",
+    "geared_geneva": "mechsketch.core.cli.gears_cmds",
 }
+
+
+#: a handler function -> the command as the user types it (messages never name a function)
+COMMAND_WORDS: dict[str, str] = {"analyze": "mechsketch analyze", "analyze_forces": "mechsketch analyze --forces",
+                                 "synthesize": "mechsketch synthesize", "centrodes": "mechsketch centrodes"}
 
 
 class CliError(MechsketchError, ValueError):
     """A request the CLI cannot carry out (unknown element, command not for this type)."""
+
+
+def _kind_words(element_type: str) -> str:
+    """An element type in words (``rolling_lever`` -> ``rolling lever``)."""
+    return {"geneva": "Geneva drive", "geared_geneva": "geared Geneva drive"}.get(element_type,
+                                                                                   element_type.replace("_", " "))
+
+
+def _commands_for(element_type: str) -> list[str]:
+    """The commands that apply to an element type, as typed (``export`` applies to every type)."""
+    name = HANDLERS.get(element_type)
+    module = importlib.import_module(name) if name else None
+    return [words for fn, words in COMMAND_WORDS.items() if hasattr(module, fn)] + ["mechsketch export"]
 
 
 def _handler(element: Any, command: str):
@@ -45,7 +65,10 @@ def _handler(element: Any, command: str):
     module = importlib.import_module(name) if name else None
     fn = getattr(module, command, None) if module else None
     if fn is None:
-        raise CliError(f"'{command}' does not apply to element {element.id!r} of type {element.type!r}")
+        *others, last = _commands_for(element.type)
+        use = f"{', '.join(others)} or {last}" if others else last
+        raise CliError(f"{COMMAND_WORDS[command]} does not apply to the {_kind_words(element.type)} "
+                       f"{element.id!r}; for it use {use}")
     return fn
 
 
@@ -61,7 +84,7 @@ def _pick(scene, element_id: str | None, command: str):
             if len(scene.elements) > 1:
                 print(f"note: using element {e.id!r} (choose with --element ID)", file=sys.stderr)
             return e
-    raise CliError(f"the scene has no element that '{command}' applies to")
+    raise CliError(f"the scene has no element that {COMMAND_WORDS[command]} applies to")
 
 
 def _emit(analysis, csv_target: str | None, summary: bool) -> None:
@@ -195,9 +218,10 @@ def run(args: argparse.Namespace) -> int:
     ws = Workspace(load_scene(args.scene))
     scene = ws.scene
     if args.command == "analyze":
-        el = _pick(scene, args.element, "analyze")
+        command = "analyze_forces" if args.forces else "analyze"
+        el = _pick(scene, args.element, command)
         ws.samples = args.samples
-        _emit(_handler(el, "analyze_forces" if args.forces else "analyze")(ws, el.id), args.csv, args.summary)
+        _emit(_handler(el, command)(ws, el.id), args.csv, args.summary)
     elif args.command == "export":
         from .export_cmds import run_export
 

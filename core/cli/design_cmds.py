@@ -12,7 +12,11 @@ import argparse
 import importlib
 
 #: design kind -> the module implementing it (``mechsketch design KIND --help`` lists its options)
-DESIGN_KINDS: dict[str, str] = {}
+DESIGN_KINDS: dict[str, str] = {
+    "geneva": "mechsketch.core.cli.design_geneva",
+    "rolling": "mechsketch.core.cli.design_rolling",
+    "gears": "mechsketch.core.cli.design_gears",
+}
 
 
 def add_design_parser(sub) -> argparse.ArgumentParser:

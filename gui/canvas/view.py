@@ -35,6 +35,7 @@ from ..selection import ELEMENT
 from ..frames import map_frame
 from .events import XY, CanvasEvent, Hit
 from .extras import CanvasExtras
+from .gear_items import element_item as gear_item
 from .geneva_items import GenevaItem
 from .grid import (BACKGROUND, GRID_AXES, GRID_MAJOR, GRID_MIN_PX, GRID_MINOR,  # noqa: F401 - re-exported
                    grid_steps, paint_grid, paint_scale_bar)
@@ -354,7 +355,7 @@ class CanvasView(QGraphicsView):
         px = self.px()
         for eid, res in results.items():
             if eid not in self.element_items:
-                item = GenevaItem(res) if isinstance(res, GenevaResult) else RollingItem(res)
+                item = gear_item(res) or (GenevaItem(res) if isinstance(res, GenevaResult) else RollingItem(res))
                 item.set_px(px)
                 self._scene.addItem(item)
                 self.element_items[eid] = item

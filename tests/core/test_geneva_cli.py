@@ -35,7 +35,7 @@ def table(text: str):
 
 
 def test_columns_are_the_issues():
-    assert " ".join(COLUMNS) == ("t input wheel.angle wheel.omega wheel.alpha wheel.jerk engaged Rn Rn_paper moment "
+    assert " ".join(COLUMNS) == ("t input wheel.angle wheel.omega wheel.alpha wheel.jerk engaged contact_valid Rn Rn_paper moment "
                                  "strip_width hertz_half_width deformation rolling_ratio slip_speed slip_path "
                                  "wear_invariant contact_pressure")
 

@@ -9,10 +9,13 @@ from dataclasses import dataclass
 
 from ...errors import GeometryError
 from ...model.drawing import DEFAULT_MIN_WEB, LinkageDrawing
+from ...model.gear_pair import GearPair
+from ...model.geared_geneva import GearedGeneva
 from ...model.geneva import Geneva
 from ...model.linkage import Linkage
 from ...model.rolling_lever import RollingLever
 from ...solver.plan import Plan, compile_plan
+from .gears import gear_parts
 from .keys import API, Vocabulary, name_of
 from .geneva import geneva_parts
 from .linkage import LinkageStyle, linkage_parts
@@ -50,7 +53,9 @@ def min_web_of(element, options: PartOptions) -> float:
     ``drawing.min_web``, else 1 mm."""
     if options.min_web is not None:
         return options.min_web
-    if isinstance(element, Geneva):
+    if isinstance(element, GearedGeneva):
+        return min(element.geneva.min_web, element.min_web)
+    if isinstance(element, (Geneva, GearPair)):
         return element.min_web
     if isinstance(element, Linkage) and element.drawing is not None and element.drawing.min_web is not None:
         return element.drawing.min_web
@@ -95,6 +100,8 @@ def element_parts(element, options: PartOptions = PartOptions(), plan: Plan | No
         depth_name = options.vocabulary.option("depth") or "the plate depth"
         return rolling_parts(synthesize(element, measures=False),
                              RollingStyle(depth=options.depth, tolerance=options.tolerance, depth_name=depth_name))
+    if isinstance(element, (GearPair, GearedGeneva)):   # issue 25: pitch-curve blanks (and the drive)
+        return gear_parts(element)
     raise GeometryError(f"element {getattr(element, 'id', '?')!r} of type {getattr(element, 'type', '?')!r} "
                         "has no parts to export")
 
@@ -108,4 +115,8 @@ def part_names(element) -> tuple[str, ...]:
         return element.link_ids
     if isinstance(element, RollingLever):
         return ("frame", "frame_pivots", "lever", "slider")
+    if isinstance(element, GearPair):
+        return ("input_gear", "output_gear")
+    if isinstance(element, GearedGeneva):
+        return ("wheel", "locking_disc", "crank_arm", "roller", "input_gear", "output_gear")
     return ()
