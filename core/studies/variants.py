@@ -23,7 +23,9 @@ from ..solver.structure import MODAL_KINDS, GroupKind
 from ..solver.tolerances import RATE_REL, TOGGLE_COND
 from . import vec as V
 from .budget import check_kept, chunk_designs
+from ..solver.branches import CANDIDATE
 from .engine import BatchPlan, Constants, Inputs, Run
+from .fused import Fused, fusable, transmission_extremes
 from .geometry import Geometry, build_geometry
 from .keys import design_values
 
@@ -146,15 +148,118 @@ class _Extract:
                 cond = np.where(self.valid, np.broadcast_to(np.real(out.cond), self.shape), np.inf)
                 low |= cond.min(axis=1) < TOGGLE_COND
             if g.kind is GroupKind.RRR:
-                L, M, H = (self.joint(j, 0) for j in (g.inner, g.outer_i, g.outer_j))
-                a, b = M - L, H - L
-                mu = np.abs(np.arctan2(a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0], (a * b).sum(axis=2)))
-                mu = np.minimum(mu, math.pi - mu)
-                mu_min = np.minimum(mu_min, np.where(np.isfinite(mu), mu, np.inf).min(axis=1))
+                rix, riy = out.si.arm(g.inner, self.K.at[g.inner])
+                lx, ly = out.si.point(g.inner, self.K.at[g.inner])
+                rjx, rjy = lx - out.sj.A[0], ly - out.sj.A[1]
+                # the least μ (folded) is where the outer joints are nearest or farthest
+                dx, dy = out.sj.A[0] - out.si.A[0], out.sj.A[1] - out.si.A[1]
+                d2 = np.broadcast_to(np.real(dx * dx + dy * dy), self.shape)
+                c = self.K.steps[g.name]
+                mu = transmission_extremes(c["li"][:, 0], c["lj"][:, 0], np.where(self.valid, d2, np.inf).min(axis=1),
+                                           np.where(self.valid, d2, -np.inf).max(axis=1))
+                mu_min = np.minimum(mu_min, mu)
         has_rrr = any(s.group.kind is GroupKind.RRR for s in self.bp.plan.steps)
         mu_deg = np.where(np.isfinite(mu_min), np.degrees(mu_min), np.nan) if has_rrr else np.full(self.geo.n, np.nan)
         return {"full_cycle": full, "dead_point": self.geo.ok & (~full | low | sing.any(axis=1)),
                 "min_transmission_angle": mu_deg}
+
+
+#: designs per block of the fused path (its geometry is made a block at a time; the loop keeps
+#: no temporaries, so a block's size costs only the block's results)
+FUSED_BLOCK = 8192
+
+
+def _fused(bp: BatchPlan, order: int, joints: list, links: list):
+    """The fused kernel for this request, or None where the plan has no fused form."""
+    if not fusable(bp):
+        return None
+    steady = np.ndim(bp.plan.omega) == 0 and bp.linkage.driver.law.is_constant
+    return Fused(bp, order, tuple(joints), tuple(links), steady)
+
+
+class _Sink:
+    """Where the chunks' results go: the kept arrays of a :class:`Variants`."""
+
+    def __init__(self, D: int, N: int, joints: list, links: list, summary: bool) -> None:
+        self.D, self.N, self.summary = D, N, summary
+        self.out_j = {key: np.empty((D, N, 2)) for key in joints}
+        self.out_l = {key: np.empty((D, N)) for key in links}
+        #: per design-sample: 1 valid, 2 rates valid, 4 singular (0 for designs not assembled)
+        self.status = np.zeros((D, N), dtype=np.uint8) if summary else None
+        self.flags = ({"assembled": np.zeros(D, dtype=bool), "full_cycle": np.zeros(D, dtype=bool),
+                       "dead_point": np.zeros(D, dtype=bool), "min_transmission_angle": np.full(D, np.nan)}
+                      if summary else {})
+        self.reasons: list[str] = []
+        self.reason = np.zeros(D, dtype=np.int32)
+        self.amount = np.full(D, np.nan)
+
+    def _geometry(self, idx: np.ndarray, geo: Geometry) -> None:
+        if not self.summary:
+            return
+        self.flags["assembled"][idx] = geo.ok
+        for r in np.unique(geo.reason[~geo.ok]):
+            text = geo.reasons[int(r)]
+            if text not in self.reasons:
+                self.reasons.append(text)
+            sel = ~geo.ok & (geo.reason == r)
+            self.reason[idx[sel]] = self.reasons.index(text) + 1
+            self.amount[idx[sel]] = geo.amount[sel]
+
+    def numpy(self, idx: np.ndarray, ex: "_Extract", geo: Geometry) -> None:
+        for (j, what), arr in self.out_j.items():
+            arr[idx] = ex.joint(j, what)
+        for (k, what), arr in self.out_l.items():
+            arr[idx] = ex.angle(k) if what == 0 else ex.rate(k, what)
+        if self.summary:
+            rv = rates_valid(ex.bp, ex.K, ex.run, ex.valid, ex.order)
+            self.status[idx] = ex.valid.view(np.uint8) | (rv.view(np.uint8) << 1) | (ex.singular().view(np.uint8) << 2)
+            for key, v in ex.per_design().items():
+                self.flags[key][idx] = v
+        self._geometry(idx, geo)
+
+    def fused(self, d0: int, d1: int, fz: Fused, bp: BatchPlan, chunk: dict, inp: Inputs) -> np.ndarray:
+        """Designs d0..d1 by the fused kernel; returns the designs to solve again on the numpy
+        path (those near a toggle, where the branch screening decides)."""
+        n = d1 - d0
+        geo = build_geometry(bp.linkage, bp.plan, chunk, n)
+        K = bp.constants(geo)
+        q = np.asarray(inp.q, dtype=float)
+        th = q - bp.plan.theta0
+        full = lambda v: np.ascontiguousarray(np.broadcast_to(np.asarray(v, dtype=float), q.shape))  # noqa: E731
+        oj = [self.out_j[key][d0:d1] for key in fz.joints]
+        ol = [np.empty((n, q.size, 2)) if w == 0 else self.out_l[(k, w)][d0:d1] for k, w in fz.links]
+        status, red = fz(K, np.cos(th), np.sin(th), full(inp.qd), full(inp.qdd), oj, ol,
+                         self.status[d0:d1] if self.summary else None)
+        if not geo.ok.all():
+            status[~geo.ok] = 0
+        valid = None if not ol else (status & 1).astype(bool)
+        for (k, w), arr in zip(fz.links, ol):
+            if w == 0:
+                rho = _unwrap_rows(np.arctan2(arr[..., 1], arr[..., 0]))
+                if k == bp.linkage.driver.link:
+                    rho = np.broadcast_to(th, rho.shape)
+                self.out_l[(k, 0)][d0:d1] = np.where(valid, rho + K.angle0[k], np.nan)
+        idx = np.arange(d0, d1)
+        steps = bp.plan.steps
+        if self.summary:
+            full_c = (red[:, 0] > 0) & geo.ok
+            low = np.zeros(n, dtype=bool)
+            mu = np.full(n, np.inf)
+            for k, s in enumerate(steps):
+                low |= red[:, 3 + 4 * k] < TOGGLE_COND
+                if s.group.kind is GroupKind.RRR:
+                    c = K.steps[s.group.name]
+                    mu = np.minimum(mu, transmission_extremes(c["li"][:, 0], c["lj"][:, 0], red[:, 4 + 4 * k],
+                                                              red[:, 5 + 4 * k]))
+            self.flags["full_cycle"][d0:d1] = full_c
+            self.flags["dead_point"][d0:d1] = geo.ok & (~full_c | low | (red[:, 1] > 0))
+            self.flags["min_transmission_angle"][d0:d1] = np.where(np.isfinite(mu), np.degrees(mu), np.nan)
+        self._geometry(idx, geo)
+        near = np.zeros(n, dtype=bool)
+        for k, s in enumerate(steps):
+            if s.group.kind in MODAL_KINDS:
+                near |= ~(red[:, 2 + 4 * k] >= CANDIDATE)
+        return idx[near & geo.ok]
 
 
 class Variants:
@@ -167,6 +272,8 @@ class Variants:
         self._joints: dict[tuple[str, int], np.ndarray] = {}
         self._links: dict[tuple[str, int], np.ndarray] = {}
         self.seconds = 0.0
+        #: use the fused compiled loop where the plan has one (False: the numpy reference only)
+        self.fast = True
 
     # -- the cycle -------------------------------------------------------------------------
     @property
@@ -241,64 +348,55 @@ class Variants:
         check_kept(kept * D, f"solving {D:,} designs × {N:,} samples",
                    "ask for fewer joints (joints=[...]), fewer samples or designs, or run a study (mechsketch study), "
                    "which keeps only each design's metrics")
-        out_j = {key: np.empty((D, N, 2)) for key in joints}
-        out_l = {key: np.empty((D, N)) for key in links}
-        if summary:
-            masks = {k: np.empty((D, N), dtype=bool) for k in ("valid", "rates_valid", "singular")}
-            flags = {"assembled": np.empty(D, dtype=bool), "full_cycle": np.empty(D, dtype=bool),
-                     "dead_point": np.empty(D, dtype=bool), "min_transmission_angle": np.empty(D)}
-            reasons: list[str] = []
-            reason = np.zeros(D, dtype=np.int32)
-            amount = np.full(D, np.nan)
+        sink = _Sink(D, N, joints, links, summary)
         lk = self.plan.linkage
+        fz = _fused(self.plan, self.order, joints, links) if self.fast else None
         step = chunk_designs(N, len(lk.joints) + len(lk.links), D, kept)
+        if fz is not None:
+            step = max(step, min(D, FUSED_BLOCK))
         for d0 in range(0, D, step):
             d1 = min(D, d0 + step)
             chunk = {k: v[d0:d1] for k, v in self.values.items()}
-            geo, K, run = solve_chunk(self.plan, chunk, d1 - d0, self._inp, self.order)
-            ex = _Extract(self.plan, geo, K, run, self._inp, self.order)
-            for (j, what), arr in out_j.items():
-                arr[d0:d1] = ex.joint(j, what)
-            for (k, what), arr in out_l.items():
-                arr[d0:d1] = ex.angle(k) if what == 0 else ex.rate(k, what)
-            if summary:
-                masks["valid"][d0:d1] = ex.valid
-                masks["rates_valid"][d0:d1] = rates_valid(self.plan, K, run, ex.valid, self.order)
-                masks["singular"][d0:d1] = ex.singular()
-                flags["assembled"][d0:d1] = geo.ok
-                for key, v in ex.per_design().items():
-                    flags[key][d0:d1] = v
-                for r in np.unique(geo.reason[~geo.ok]):
-                    text = geo.reasons[int(r)]
-                    if text not in reasons:
-                        reasons.append(text)
-                    sel = ~geo.ok & (geo.reason == r)
-                    reason[d0:d1][sel] = reasons.index(text) + 1
-                    amount[d0:d1][sel] = geo.amount[sel]
+            if fz is None:
+                geo, K, run = solve_chunk(self.plan, chunk, d1 - d0, self._inp, self.order)
+                sink.numpy(np.arange(d0, d1), _Extract(self.plan, geo, K, run, self._inp, self.order), geo)
+            else:
+                redo = sink.fused(d0, d1, fz, self.plan, chunk, self._inp)
+                for lo in range(0, redo.size, max(1, chunk_designs(N, len(lk.joints) + len(lk.links), redo.size))):
+                    idx = redo[lo:lo + chunk_designs(N, len(lk.joints) + len(lk.links), redo.size)]
+                    sub = {k: v[idx] for k, v in self.values.items()}
+                    geo, K, run = solve_chunk(self.plan, sub, idx.size, self._inp, self.order)
+                    sink.numpy(idx, _Extract(self.plan, geo, K, run, self._inp, self.order), geo)
             if progress is not None:
                 progress(d1 / D)
-        self._joints.update(out_j)
-        self._links.update(out_l)
+        self._joints.update(sink.out_j)
+        self._links.update(sink.out_l)
         if summary:
-            self._masks, self._flags = masks, flags
-            self._reasons, self._reason, self._amount = ["assembled"] + reasons, reason, amount
+            self._status, self._flags, self._masks = sink.status, sink.flags, {}
+            self._reasons, self._reason, self._amount = ["assembled"] + sink.reasons, sink.reason, sink.amount
         self.seconds += time.perf_counter() - start
 
     # -- masks and per-design results --------------------------------------------------------
+    def _mask(self, name: str, bit: int) -> np.ndarray:
+        m = self._masks.get(name)
+        if m is None:
+            m = self._masks[name] = (self._status & bit).astype(bool)
+        return m
+
     @property
     def valid(self) -> np.ndarray:
         """(D, N) bool: the design is assembled at the sample (as ``Solution.valid``)."""
-        return self._masks["valid"]
+        return self._mask("valid", 1)
 
     @property
     def rates_valid(self) -> np.ndarray:
         """(D, N) bool: velocities and accelerations given (as ``Solution.rates_valid``)."""
-        return self._masks["rates_valid"]
+        return self._mask("rates_valid", 2)
 
     @property
     def singular(self) -> np.ndarray:
         """(D, N) bool: a group assembles but its pose is undetermined there."""
-        return self._masks["singular"]
+        return self._mask("singular", 4)
 
     @property
     def assembled(self) -> np.ndarray:
@@ -339,18 +437,20 @@ class Variants:
 
 def solve_variants(linkage: Linkage, values: dict, samples: int | None = None, order: int = 2,
                    joints: Iterable[str] | None = None, links: Iterable[str] | None = None,
-                   progress: Callable[[float], object] | None = None) -> Variants:
+                   progress: Callable[[float], object] | None = None, fast: bool = True) -> Variants:
     """Solve the designs of ``linkage`` given by ``values`` (key -> scalar or array (D,); see
     :mod:`.keys`) over one cycle of ``samples`` samples (default the linkage's) to derivative
     ``order`` 0-2. ``joints``/``links``: what to keep (default every joint and moving link; the
     others are solved again when first read). RequestError for unknown keys, values that are not
-    finite numbers, or results over the memory budget."""
+    finite numbers, or results over the memory budget. ``fast`` False: the numpy reference
+    path only (the fused compiled loop gives the same bits; tests compare them)."""
     if order not in (0, 1, 2):
         raise RequestError(f"order must be 0, 1 or 2, got {order}")
     vals, n = design_values(linkage, values)
     bp = BatchPlan(linkage)
     inp = bp.inputs(samples or linkage.samples)
     b = Variants(bp, vals, n, inp, order)
+    b.fast = fast
     js = list(linkage.joint_ids if joints is None else joints)
     ls = list(linkage.moving_links if links is None else links)
     for j in js:
