@@ -39,7 +39,7 @@ import numpy as np
 NAN = math.nan
 
 
-@numba.njit(inline="always")
+@numba.njit(inline="always", error_model="numpy")
 def _nmin(a, b):
     if a != a:
         return a
@@ -328,7 +328,7 @@ class _Gen:
                 e(f"mc{k} = min(mc{k}, g{k}D2 if ok else np.inf); md{k} = max(md{k}, g{k}D2 if ok else -np.inf)")
         outs = self._outputs()
         scales = [self.c("step", st.group.name, "scale") for st in steps]
-        lines = [HEADER, "@numba.njit(cache=True, nogil=True)",
+        lines = [HEADER, "@numba.njit(cache=True, nogil=True, error_model=\"numpy\")",
                  f"def kernel(C, cq, sq, w_in, al_in, status, red{''.join(', ' + o for o in outs)}):",
                  "    D = C.shape[0]", "    N = cq.shape[0]", "    for d in range(D):"]
         for i in range(len(self.cols)):

@@ -159,11 +159,14 @@ class _Extract:
                                            np.where(self.valid, d2, -np.inf).max(axis=1))
                 mu_min = np.minimum(mu_min, mu)
         has_rrr = any(s.group.kind is GroupKind.RRR for s in self.bp.plan.steps)
-        mu_deg = np.where(np.isfinite(mu_min), np.degrees(mu_min), np.nan) if has_rrr else np.full(self.geo.n, np.nan)
+        mu_deg = (np.where(np.isfinite(mu_min) & self.geo.ok, np.degrees(mu_min), np.nan) if has_rrr else
+                  np.full(self.geo.n, np.nan))
         return {"full_cycle": full, "dead_point": self.geo.ok & (~full | low | sing.any(axis=1)),
                 "min_transmission_angle": mu_deg}
 
 
+#: below this many design-samples the numpy path answers before a kernel could compile
+FUSED_MIN = 2_000_000
 #: designs per block of the fused path (its geometry is made a block at a time; the loop keeps
 #: no temporaries, so a block's size costs only the block's results)
 FUSED_BLOCK = 8192
@@ -230,8 +233,10 @@ class _Sink:
         ol = [np.empty((n, q.size, 2)) if w == 0 else self.out_l[(k, w)][d0:d1] for k, w in fz.links]
         status, red = fz(K, np.cos(th), np.sin(th), full(inp.qd), full(inp.qdd), oj, ol,
                          self.status[d0:d1] if self.summary else None)
-        if not geo.ok.all():
+        if not geo.ok.all():   # designs that do not assemble: nothing is valid
             status[~geo.ok] = 0
+            for arr in oj + [a for a, (k, w) in zip(ol, fz.links) if w]:
+                arr[~geo.ok] = np.nan
         valid = None if not ol else (status & 1).astype(bool)
         for (k, w), arr in zip(fz.links, ol):
             if w == 0:
@@ -253,7 +258,7 @@ class _Sink:
                                                               red[:, 5 + 4 * k]))
             self.flags["full_cycle"][d0:d1] = full_c
             self.flags["dead_point"][d0:d1] = geo.ok & (~full_c | low | (red[:, 1] > 0))
-            self.flags["min_transmission_angle"][d0:d1] = np.where(np.isfinite(mu), np.degrees(mu), np.nan)
+            self.flags["min_transmission_angle"][d0:d1] = np.where(np.isfinite(mu) & geo.ok, np.degrees(mu), np.nan)
         self._geometry(idx, geo)
         near = np.zeros(n, dtype=bool)
         for k, s in enumerate(steps):
@@ -272,8 +277,10 @@ class Variants:
         self._joints: dict[tuple[str, int], np.ndarray] = {}
         self._links: dict[tuple[str, int], np.ndarray] = {}
         self.seconds = 0.0
-        #: use the fused compiled loop where the plan has one (False: the numpy reference only)
-        self.fast = True
+        #: the fused compiled loop where the plan has one: True always, False never (the numpy
+        #: reference), None from FUSED_MIN design-samples on (below, numpy answers before a
+        #: kernel could compile)
+        self.fast: bool | None = None
 
     # -- the cycle -------------------------------------------------------------------------
     @property
@@ -350,8 +357,21 @@ class Variants:
                    "which keeps only each design's metrics")
         sink = _Sink(D, N, joints, links, summary)
         lk = self.plan.linkage
-        fz = _fused(self.plan, self.order, joints, links) if self.fast else None
+        auto = self.fast is None and D * N >= FUSED_MIN
+        fz = _fused(self.plan, self.order, joints, links) if (self.fast or auto) else None
         step = chunk_designs(N, len(lk.joints) + len(lk.links), D, kept)
+        with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+            self._chunks(sink, fz, step, progress)
+        self._joints.update(sink.out_j)
+        self._links.update(sink.out_l)
+        if summary:
+            self._status, self._flags, self._masks = sink.status, sink.flags, {}
+            self._reasons, self._reason, self._amount = ["assembled"] + sink.reasons, sink.reason, sink.amount
+        self.seconds += time.perf_counter() - start
+
+    def _chunks(self, sink: "_Sink", fz, step: int, progress) -> None:
+        D, N = self.n, np.size(self._inp.q)
+        lk = self.plan.linkage
         if fz is not None:
             step = max(step, min(D, FUSED_BLOCK))
         for d0 in range(0, D, step):
@@ -369,12 +389,6 @@ class Variants:
                     sink.numpy(idx, _Extract(self.plan, geo, K, run, self._inp, self.order), geo)
             if progress is not None:
                 progress(d1 / D)
-        self._joints.update(sink.out_j)
-        self._links.update(sink.out_l)
-        if summary:
-            self._status, self._flags, self._masks = sink.status, sink.flags, {}
-            self._reasons, self._reason, self._amount = ["assembled"] + sink.reasons, sink.reason, sink.amount
-        self.seconds += time.perf_counter() - start
 
     # -- masks and per-design results --------------------------------------------------------
     def _mask(self, name: str, bit: int) -> np.ndarray:
@@ -437,13 +451,14 @@ class Variants:
 
 def solve_variants(linkage: Linkage, values: dict, samples: int | None = None, order: int = 2,
                    joints: Iterable[str] | None = None, links: Iterable[str] | None = None,
-                   progress: Callable[[float], object] | None = None, fast: bool = True) -> Variants:
+                   progress: Callable[[float], object] | None = None, fast: bool | None = None) -> Variants:
     """Solve the designs of ``linkage`` given by ``values`` (key -> scalar or array (D,); see
     :mod:`.keys`) over one cycle of ``samples`` samples (default the linkage's) to derivative
     ``order`` 0-2. ``joints``/``links``: what to keep (default every joint and moving link; the
     others are solved again when first read). RequestError for unknown keys, values that are not
-    finite numbers, or results over the memory budget. ``fast`` False: the numpy reference
-    path only (the fused compiled loop gives the same bits; tests compare them)."""
+    finite numbers, or results over the memory budget. ``fast``: True the fused compiled loop
+    (where the plan has one), False the numpy reference path (the same bits; tests compare
+    them), None the loop from :data:`FUSED_MIN` design-samples on."""
     if order not in (0, 1, 2):
         raise RequestError(f"order must be 0, 1 or 2, got {order}")
     vals, n = design_values(linkage, values)
