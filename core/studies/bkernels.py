@@ -145,15 +145,23 @@ def _solve2(c1: Pair, c2: Pair, w: Pair):
     return V.cross(w, c2) / det, V.cross(c1, w) / det, det
 
 
+def _moved(p: Pair, e) -> Pair:
+    """``p`` displaced by a pin's play ``e`` (None: not displaced)."""
+    return p if e is None else (p[0] + e[0], p[1] + e[1])
+
+
 def rrr(mi: BState, m: str, m0: Pair, hj: BState, h: str, h0: Pair, l: str, l0: Pair, k: dict, order: int,
-        flip=None) -> BOut:
+        flip=None, play: tuple = (None, None, None)) -> BOut:
     """RRR dyad: link i = M–L, link j = H–L (see :func:`mechsketch.core.solver.kernels.rrr`).
-    ``k``: the group's constants per design (D, 1): ``li``, ``lj``, ``mode``, ``tol``, ``near``."""
+    ``k``: the group's constants per design (D, 1): ``li``, ``lj``, ``mode``, ``tol``, ``near``.
+    ``play``: the displacements (pairs, or None) of link i's M from its known link's, of link j's
+    H, and of link j's L from link i's (pin clearances; positions only)."""
     li, lj = k["li"], k["lj"]
     mode = k["mode"] if flip is None else k["mode"] * flip
-    mx, my = mi.point(m, m0)
-    hx, hy = hj.point(h, h0)
-    dx, dy = hx - mx, hy - my
+    mx, my = _moved(mi.point(m, m0), play[0])
+    hx, hy = _moved(hj.point(h, h0), play[1])
+    sx, sy = _moved((mx, my), play[2])       # link j's L is link i's L + its play
+    dx, dy = hx - sx, hy - sy
     D2 = dx * dx + dy * dy
     D = np.sqrt(D2)
     dl, sl = li - lj, li + lj
@@ -170,11 +178,11 @@ def rrr(mi: BState, m: str, m0: Pair, hj: BState, h: str, h0: Pair, l: str, l0: 
     x = x * t
     h_ = h_ * t
     rix, riy = x * dx - h_ * dy, x * dy + h_ * dx
-    lx, ly = mx + rix, my + riy
+    lx, ly = sx + rix, sy + riy
     rjx, rjy = lx - hx, ly - hy
     si = BState(m0, (mx, my), _turned(m0, (mx, my), (rix, riy), V.sub(l0, m0)))
     sj = BState(h0, (hx, hy), _turned(h0, (hx, hy), (rjx, rjy), V.sub(l0, h0)))
-    si.set_point(l, (rix, riy), (lx, ly))
+    si.set_point(l, (rix, riy), (lx, ly) if play[2] is None else (mx + rix, my + riy))
     det = riy * rjx - rix * rjy
     cond = np.abs(V.re(det)) / V.re(li * lj)
     if order >= 1:
@@ -196,12 +204,14 @@ def rrr(mi: BState, m: str, m0: Pair, hj: BState, h: str, h0: Pair, l: str, l0: 
 
 
 def rrp(mi: BState, m: str, m0: Pair, g: BState, sjoint: str, s0: Pair, u0: Pair, l: str, l0: Pair, k: dict,
-        order: int, flip=None) -> BOut:
+        order: int, flip=None, play: tuple = (None, None)) -> BOut:
     """RRP dyad: rod i = M–L, slider j carrying L on the guide of ``g`` through ``sjoint`` drawn at
-    ``s0``, direction ``u0`` (see :func:`mechsketch.core.solver.kernels.rrp`)."""
+    ``s0``, direction ``u0`` (see :func:`mechsketch.core.solver.kernels.rrp`). ``play``: the
+    displacements of the rod's M and of the slider's L from the rod's (positions only)."""
     li = k["li"]
     mode = k["mode"] if flip is None else k["mode"] * flip
-    mx, my = mi.point(m, m0)
+    ax_, ay_ = _moved(mi.point(m, m0), play[0])
+    mx, my = _moved((ax_, ay_), play[1])
     zx, zy = g.point(sjoint, s0)
     ux, uy = V.mul(g.cs, u0)
     bx, by = V.mul(g.cs, V.sub(l0, s0))
@@ -213,8 +223,8 @@ def rrp(mi: BState, m: str, m0: Pair, g: BState, sjoint: str, s0: Pair, u0: Pair
     s = mode * root - du
     rix, riy = dx + ux * s, dy + uy * s
     lx, ly = mx + rix, my + riy
-    si = BState(m0, (mx, my), _turned(m0, (mx, my), (rix, riy), V.sub(l0, m0)))
-    si.set_point(l, (rix, riy), (lx, ly))
+    si = BState(m0, (ax_, ay_), _turned(m0, (ax_, ay_), (rix, riy), V.sub(l0, m0)))
+    si.set_point(l, (rix, riy), (lx, ly) if play[1] is None else (ax_ + rix, ay_ + riy))
     udr = ux * rix + uy * riy
     cond = np.abs(V.re(udr)) / V.re(li)
     sd = sdd = None
@@ -244,12 +254,12 @@ def rrp(mi: BState, m: str, m0: Pair, g: BState, sjoint: str, s0: Pair, u0: Pair
 
 
 def rpr(mi: BState, m: str, m0: Pair, hj: BState, h: str, h0: Pair, u0: Pair, k: dict, order: int,
-        flip=None) -> BOut:
+        flip=None, play: tuple = (None, None)) -> BOut:
     """RPR dyad: link i (pin M) slides on link j (pin H) along an axis of drawn direction ``u0``
     (see :func:`mechsketch.core.solver.kernels.rpr`)."""
     c, a_d = V.cross(u0, V.sub(m0, h0)), V.dot(u0, V.sub(m0, h0))
     mode = k["mode"] if flip is None else k["mode"] * flip
-    M, H = mi.point(m, m0), hj.point(h, h0)
+    M, H = _moved(mi.point(m, m0), play[0]), _moved(hj.point(h, h0), play[1])
     d = V.sub(M, H)
     D = V.norm(d)
     gap = V.re(D) - np.abs(V.re(c))
@@ -292,14 +302,15 @@ def _guide_rates(g: BState, joint: str, s0: Pair, L: Pair, z: Pair, order: int):
 
 
 def prp(g1: BState, j1: str, s1: Pair, u1_0: Pair, g2: BState, j2: str, s2: Pair, u2_0: Pair, l0: Pair,
-        order: int) -> BOut:
+        order: int, play=None) -> BOut:
     """PRP dyad: link i slides on a guide of g1, link j on a guide of g2, pinned together at L
     (see :func:`mechsketch.core.solver.kernels.prp`)."""
     z1, z2 = g1.point(j1, s1), g2.point(j2, s2)
     u1, u2 = V.mul(g1.cs, u1_0), V.mul(g2.cs, u2_0)
     b1, b2 = V.mul(g1.cs, V.sub(l0, s1)), V.mul(g2.cs, V.sub(l0, s2))
     c1, c2 = u1, V.scale(-1.0, u2)
-    p1, p2, det = _solve2(c1, c2, V.sub(V.add(z2, b2), V.add(z1, b1)))
+    rhs = V.sub(V.add(z2, b2), V.add(z1, b1))
+    p1, p2, det = _solve2(c1, c2, rhs if play is None else V.sub(rhs, play))
     cond = np.abs(V.re(det))
     ok = np.isfinite(V.re(p1)) & (cond > PARALLEL_COND)
     L = V.add(V.add(z1, b1), V.scale(p1, u1))
@@ -316,10 +327,11 @@ def prp(g1: BState, j1: str, s1: Pair, u1_0: Pair, g2: BState, j2: str, s2: Pair
     return BOut(si, sj, ok, cond, cond, None, ((p1, q1, r1), (p2, q2, r2)))
 
 
-def rpp(mi: BState, m: str, m0: Pair, ui0: Pair, g: BState, j2: str, s2: Pair, u2_0: Pair, order: int) -> BOut:
+def rpp(mi: BState, m: str, m0: Pair, ui0: Pair, g: BState, j2: str, s2: Pair, u2_0: Pair, order: int,
+        play=None) -> BOut:
     """RPP dyad: link i pinned at M slides along its axis ``ui0`` on link j, which slides on a
     guide of g (see :func:`mechsketch.core.solver.kernels.rpp`)."""
-    M = mi.point(m, m0)
+    M = _moved(mi.point(m, m0), play)
     z2 = g.point(j2, s2)
     u1, u2 = V.mul(g.cs, ui0), V.mul(g.cs, u2_0)
     d = V.add(V.sub(M, z2), V.mul(g.cs, V.sub(s2, m0)))

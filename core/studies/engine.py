@@ -203,16 +203,23 @@ class BatchPlan:
         return scale
 
     # -- running the kernels ---------------------------------------------------------------
-    def run(self, K: Constants, q, qd, qdd, order: int, flips: dict | None = None, idx=None) -> Run:
+    def run(self, K: Constants, q, qd, qdd, order: int, flips: dict | None = None, idx=None,
+            play: dict | None = None) -> Run:
         """The kernels of steps ``idx`` (default all, in solving order) at inputs ``q`` (a row
         (1, N) shared by the designs, or a column (D, 1): one input per design) with rates
-        ``qd``, ``qdd``; ``flips`` group -> (D, N) ±1 past branch points (None: drawn modes)."""
+        ``qd``, ``qdd``; ``flips`` group -> (D, N) ±1 past branch points (None: drawn modes);
+        ``play`` revolute joint -> (x, y) displacement of the joint on its later links from its
+        place on the first one solved (pin clearances; positions only, ``order`` 0)."""
         lk, at, axis = self.linkage, K.at, K.axis
         drv = lk.driver
+        pl = play or {}
+        if pl and order:
+            raise RequestError("pin play is modelled on positions only (order 0)")
         states = {self.ground: BK.ground()}
         stroke = None
         if self.kind == "crank":
-            states[drv.link] = BK.crank(at[drv.pivot], self.plan.theta0, q, qd, qdd, order)
+            pivot = at[drv.pivot] if drv.pivot not in pl else V.add(at[drv.pivot], pl[drv.pivot])
+            states[drv.link] = BK.crank(pivot, self.plan.theta0, q, qd, qdd, order)
         elif self.kind == "slider":
             states[drv.link] = BK.slider(states[self.ground], at[drv.pivot], axis[drv.pivot], drv.pivot,
                                          q, qd, qdd, order)
@@ -236,19 +243,19 @@ class BatchPlan:
                     states[self.drive.rod] = rod
                 elif g.kind is GroupKind.RRR:
                     out = BK.rrr(si, g.outer_i, at[g.outer_i], sj, g.outer_j, at[g.outer_j], g.inner, at[g.inner],
-                                 c, order, flip)
+                                 c, order, flip, (pl.get(g.outer_i), pl.get(g.outer_j), pl.get(g.inner)))
                 elif g.kind is GroupKind.RRP:
                     out = BK.rrp(si, g.outer_i, at[g.outer_i], sj, g.outer_j, at[g.outer_j], axis[g.outer_j],
-                                 g.inner, at[g.inner], c, order, flip)
+                                 g.inner, at[g.inner], c, order, flip, (pl.get(g.outer_i), pl.get(g.inner)))
                 elif g.kind is GroupKind.RPR:
                     out = BK.rpr(si, g.outer_i, at[g.outer_i], sj, g.outer_j, at[g.outer_j], axis[g.inner], c,
-                                 order, flip)
+                                 order, flip, (pl.get(g.outer_i), pl.get(g.outer_j)))
                 elif g.kind is GroupKind.PRP:
                     out = BK.prp(si, g.outer_i, at[g.outer_i], axis[g.outer_i], sj, g.outer_j, at[g.outer_j],
-                                 axis[g.outer_j], at[g.inner], order)
+                                 axis[g.outer_j], at[g.inner], order, pl.get(g.inner))
                 else:
                     out = BK.rpp(si, g.outer_i, at[g.outer_i], axis[g.inner], sj, g.outer_j, at[g.outer_j],
-                                 axis[g.outer_j], order)
+                                 axis[g.outer_j], order, pl.get(g.outer_i))
                 if g.fixed:
                     out = BK.held(out, out.si.a0, out.sj.a0, shape, order)
                 states[g.link_i], states[g.link_j] = out.si, out.sj
