@@ -37,7 +37,7 @@ from .geometry import Geometry, design_linkage
 #: the one-design branch search (generous: a false alarm costs a few ms, a miss a wrong branch)
 SUSPECT = 1e3
 #: screening grid over one turn or the stroke when the sweep's own samples cannot serve
-SCREEN_SAMPLES = 720
+SCREEN_SAMPLES = 180
 
 
 class Inputs:
@@ -269,7 +269,7 @@ class BatchPlan:
         if self.linkage.driver.linear:
             lo, hi = linear_range(self.drive)
             return np.linspace(lo, hi, SCREEN_SAMPLES), False, self.drive.input0
-        if inp.turn and inp.q.size >= SCREEN_SAMPLES // 4:
+        if inp.turn and inp.q.size >= SCREEN_SAMPLES // 2:
             return inp.q, True, self.plan.theta0
         sgn = self.plan.direction
         return self.plan.theta0 + sgn * (2.0 * math.pi / SCREEN_SAMPLES) * np.arange(SCREEN_SAMPLES), True, \

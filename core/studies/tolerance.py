@@ -234,8 +234,9 @@ class ToleranceResult:
         return self._ang[link]
 
     def percentile(self, joint: str, q: float) -> float:
-        """The q-th percentile (0-100) of :meth:`deviation`, failed builds counted at +inf."""
-        return float(np.percentile(self.deviation(joint), q))
+        """The q-th percentile (0-100) of :meth:`deviation` (linear between the two nearest builds),
+        failed builds counted at +inf: inf once the percentile reaches them."""
+        return percentile(self.deviation(joint), q)
 
     def envelope(self, joint: str, q: float) -> np.ndarray:
         """(N, 2) per sample the point at the q-quantile (0 < q < 1) of the builds' signed deviation
@@ -279,13 +280,26 @@ class ToleranceResult:
         lines = [head, f"builds that do not assemble over the cycle: {self.failed:,} "
                        f"({self.failed / max(self.builds, 1):.3%}; counted at +inf in the percentiles)"]
         if fin.any():
-            p = np.percentile(d, [50, 95, 99, 99.9])
+            p = [percentile(d, q) for q in (50, 95, 99, 99.9)]
             lines.append(f"deviation of {j} (mm): median {p[0]:.6g}, p95 {p[1]:.6g}, p99 {p[2]:.6g}, p99.9 {p[3]:.6g}, "
                          f"max {np.max(d):.6g}")
         shares = self.sensitivity(j)
         lines.append("first-order shares: " + ", ".join(f"{k} {v:.1%}" for k, v in
                                                         sorted(shares.items(), key=lambda kv: -kv[1])))
         return "\n".join(lines)
+
+
+def percentile(values: np.ndarray, q: float) -> float:
+    """The q-th percentile (0-100) of ``values`` with linear interpolation, +inf values at the top
+    (inf where the interpolation reaches one: never inf − inf)."""
+    v = np.sort(np.asarray(values, dtype=float))
+    if v.size == 0:
+        return math.nan
+    x = q / 100.0 * (v.size - 1)
+    lo, hi = int(math.floor(x)), int(math.ceil(x))
+    if not math.isfinite(v[hi]):
+        return math.inf
+    return float(v[lo] + (x - lo) * (v[hi] - v[lo]))
 
 
 def _quantile(h: np.ndarray, fails: int, q: float, total: int, lo: float, w: float, ext) -> float:
@@ -463,5 +477,5 @@ def linearised_tolerance(linkage: Linkage, spec: dict, samples: int | None = Non
     return LinearBand(nom, sp)
 
 
-__all__ = ["BLOCK", "LinearBand", "Spec", "ToleranceResult", "bore_diameter", "default_joints", "draw",
+__all__ = ["BLOCK", "LinearBand", "percentile", "Spec", "ToleranceResult", "bore_diameter", "default_joints", "draw",
            "linearised_tolerance", "parse_spec", "sensitivity", "tolerance"]
