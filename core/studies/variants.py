@@ -22,6 +22,7 @@ from ..solver.plan import unwrap_finite
 from ..solver.structure import MODAL_KINDS, GroupKind
 from ..solver.tolerances import RATE_REL, TOGGLE_COND
 from . import vec as V
+from .bforces import BatchForces, check_forces, chunk_forces
 from .budget import check_kept, chunk_designs
 from ..solver.branches import CANDIDATE
 from .engine import BatchPlan, Constants, Inputs, Run
@@ -442,6 +443,36 @@ class Variants:
             return ""
         a = self._amount[d]
         return self._reasons[r] + (f" (by {a:.6g})" if math.isfinite(a) else "")
+
+    def forces(self) -> BatchForces:
+        """The kinetostatics of every design over the cycle (driving effort, pin forces, shaking;
+        :class:`~.bforces.BatchForces`), solved again chunk by chunk at order 2 on the numpy path."""
+        lk = self.plan.linkage
+        check_forces(lk)
+        D, N = self.n, np.size(self._inp.q)
+        pins = [(j.id, b) for j in lk.joints if j.kind.value == "R" for b in lk.links_of(j.id)[1:]]
+        check_kept(D * N * 8.0 * (4 + 2 * len(pins)), f"the forces of {D:,} designs × {N:,} samples",
+                   "ask for fewer designs or samples, or run a study, which keeps only each design's metrics")
+        eff, sm = np.full((D, N), np.nan), np.full((D, N), np.nan)
+        sf = np.full((D, N, 2), np.nan)
+        pin = {j: {} for j, _ in pins}
+        for j, b in pins:
+            pin[j][b] = np.full((D, N, 2), np.nan)
+        valid = np.zeros((D, N), dtype=bool)
+        step = chunk_designs(N, len(lk.joints) + len(lk.links), D)
+        with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+            for d0 in range(0, D, step):
+                d1 = min(D, d0 + step)
+                chunk = {k: v[d0:d1] for k, v in self.values.items()}
+                geo, K, run = solve_chunk(self.plan, chunk, d1 - d0, self._inp, 2)
+                ok = run.valid & geo.ok[:, None]
+                r = chunk_forces(self.plan, K, run, chunk, ok)
+                eff[d0:d1], sm[d0:d1], valid[d0:d1] = r["effort"], r["shaking_moment"], r["valid"]
+                sf[d0:d1, :, 0], sf[d0:d1, :, 1] = r["shaking_force"].real, r["shaking_force"].imag
+                for j, by in r["pins"].items():
+                    for b, f in by.items():
+                        pin[j][b][d0:d1, :, 0], pin[j][b][d0:d1, :, 1] = f.real, f.imag
+        return BatchForces("torque" if self.plan.kind == "crank" else "force", eff, pin, sf, sm, valid)
 
     def failures(self) -> dict[str, int]:
         """How many designs do not assemble, per reason."""
