@@ -118,7 +118,7 @@ def _cluster(workers: int | None, scheduler: str | None):
         import distributed
 
         cluster = distributed.LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                           dashboard_address=None)
+                                           dashboard_address=":0")
         return distributed.Client(cluster), cluster
     return None, None
 
@@ -208,7 +208,8 @@ def write_study(res, scene, folder: Path) -> list[Path]:
             p = pdir / f"{rec.id}_{k + 1}.json"
             atomic_write_text(p, dumps_scene(scene.with_element(rec)))
             written.append(p)
-        summary["pareto_scenes"] = [str(p.relative_to(folder)) for p in written if p.parent == pdir]
+        res.summary["pareto_scenes"] = summary["pareto_scenes"] = [str(p.relative_to(folder)) for p in written
+                                                                   if p.parent == pdir]
     written.append(folder / "summary.json")
     atomic_write_text(written[-1], json.dumps(_plain(summary), indent=2, ensure_ascii=False) + "\n")
     return written

@@ -43,6 +43,7 @@ from ..errors import RequestError
 from ..model.geneva import Geneva
 from ..model.linkage import Linkage
 from ..model.loads import Damper, LinkMass, PointForce, Spring, Torque
+from .budget import check_kept
 from .execute import block_rng, run_tasks
 from .geometry import build_geometry, design_linkage
 from .keys import check_keys, variables
@@ -188,6 +189,8 @@ def _check_sweep(st: Study) -> None:
     if not st.metrics:
         raise _entry("metrics", "a sweep reports metrics: list at least one")
     check_metrics(st.element, st.metrics, st.target)
+    check_kept(8.0 * n * (len(st.variables) + len(st.metrics) + 2), f"a sweep of {n:,} designs",
+               "use fewer designs")
 
 
 def _check_mc(st: Study) -> None:
