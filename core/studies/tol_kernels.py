@@ -30,10 +30,11 @@ def _bin(h, k: int, x: float, lo: float, w: float, nb: int) -> None:
 
 @numba.njit(inline="always")
 def _newton(nx: float, ny: float, ax: float, ay: float, r, S, k: int):
-    """The local maximum over unit n = (cos φ, sin φ) of f(φ) = n·a + Σ r_J |S_Jᵀ n| near
-    (nx, ny), by Newton's method on φ (f', f'' in closed form; where f'' ≥ 0, a gradient-ascent
-    step n ← ∇F/|∇F| instead, which never lowers F: F is convex and 1-homogeneous). Returns the
-    maximum and its direction."""
+    """The local maximum over unit n of f(φ) = n·a + Σ r_J |S_Jᵀ n| near (nx, ny), by Newton's
+    method on φ (f', f'' in closed form; the step turns n by Δφ = −f'/f'' along n⊥, renormalised;
+    where f'' ≥ 0 a gradient-ascent step n ← ∇F/|∇F| instead, which never lowers F, F being
+    convex and 1-homogeneous). Stops when the step is below 1e-10 rad (the value is then exact to
+    ~1e-20 relative). Returns the maximum and its direction."""
     best, bx, by = -np.inf, nx, ny
     for _ in range(ITER):
         px, py = -ny, nx                       # n⊥ = dn/dφ
@@ -49,35 +50,38 @@ def _newton(nx: float, ny: float, ax: float, ay: float, r, S, k: int):
             f += r[j] * t
             if t > 0.0:
                 tu = tx * ux + ty * uy
-                d1 += r[j] * tu / t
-                d2 += r[j] * ((ux * ux + uy * uy - t2) / t - tu * tu / (t2 * t))
                 w = r[j] / t
+                d1 += w * tu
+                d2 += w * (ux * ux + uy * uy - t2 - tu * tu / t2)
                 gx += w * (S[j, k, 0, 0] * tx + S[j, k, 0, 1] * ty)
                 gy += w * (S[j, k, 1, 0] * tx + S[j, k, 1, 1] * ty)
         if f > best:
             best, bx, by = f, nx, ny
-        if abs(d1) <= 1e-13 * (abs(f) + 1e-300):
-            break
         if d2 < 0.0:
             dphi = -d1 / d2
-            c, sn = math.cos(dphi), math.sin(dphi)
-            nx, ny = nx * c + px * sn, ny * c + py * sn
-        else:
-            gn = math.sqrt(gx * gx + gy * gy)
-            if not gn > 0.0:
+            if abs(dphi) < 1e-10:
                 break
-            nx, ny = gx / gn, gy / gn
+            nx, ny = nx + dphi * px, ny + dphi * py
+        else:
+            nx, ny = gx, gy
+        nn = math.sqrt(nx * nx + ny * ny)
+        if not nn > 0.0:
+            break
+        nx, ny = nx / nn, ny / nn
     return best, bx, by
 
 
 @numba.njit(inline="always")
-def _worst(ax: float, ay: float, r, S, Q, k: int, wx: float, wy: float):
+def _worst(ax: float, ay: float, r, S, Q, M: float, k: int, wx: float, wy: float):
     """max over unit n of n·a + Σ r_J |S_Jᵀ n| at sample k and its direction: Newton from the
-    direction (wx, wy) (the neighbouring sample's optimum; 0, 0 for none), and from a's direction
-    and from the pins' principal direction (the eigenvector of Σ r_J·S_J·S_Jᵀ turned towards a)."""
+    direction (wx, wy) (the neighbouring sample's optimum; 0, 0 for none), else from a's
+    direction, and where the pins can rival the dimensions (|a| ≤ 2M, M = Σ r_J σ_max) also from
+    the pins' principal direction (the eigenvector of Σ r_J·S_J·S_Jᵀ turned towards a)."""
     if wx != 0.0 or wy != 0.0:
         return _newton(wx, wy, ax, ay, r, S, k)
     na = math.sqrt(ax * ax + ay * ay)
+    if na > 2.0 * M:
+        return _newton(ax / na, ay / na, ax, ay, r, S, k)
     qa = qb = qc = 0.0
     for j in range(r.shape[0]):
         qa += r[j] * Q[j, k, 0]
@@ -104,21 +108,27 @@ def reduce_point(pos, ok, nom, nrm, nvalid, S, Q, smax, g, r, lo, width, hist_up
     the pins' derivative matrices, Q (P, N, 3) = S·Sᵀ (xx, xy, yy), smax (P, N) σ_max(S),
     g (P, N) |Sᵀ·nrm|; r (B, P) the builds' radial plays (mm). Adds to hist_up/hist_lo (N, nb + 2)
     (bins of width ``width`` from ``lo``, under- and overflow at the ends) the signed deviation
-    along the normal with the pins' worst case outward/inward, to ext (N, 4) its least and
+    along the normal with the pins' worst case one way and the other, to ext (N, 4) its least and
     greatest values (lo min, lo max, up min, up max), to mom (N, 2) Σ and Σ² of the dimensions'
     normal deviation, to fails (N,) the builds not assembled where the nominal is; writes dev (B,)
-    the largest distance from the nominal over the cycle (inf for a build that fails somewhere)."""
+    the largest distance from the nominal over the cycle (inf for a build that fails somewhere).
+
+    The largest distance: a first pass bounds every sample by |a| + M (M = Σ r_J σ_max) and finds
+    the sample of the largest |a|, where the exact worst case is found first; only samples whose
+    bound exceeds the best so far are looked at again — with the tighter bound
+    min(|a| + M, L + M²/(2|a|)), L = |a| + Σ r_J |S_Jᵀ â| — and maximised exactly where that
+    still exceeds it (Newton from the neighbouring sample's optimum)."""
     B, N = pos.shape[0], pos.shape[1]
     P = r.shape[1]
     nb = hist_up.shape[1] - 2
-    up = np.empty(N)
+    na_ = np.empty(N)
+    mk = np.empty(N)
     for b in range(B):
-        best = 0.0
-        kbest = -1
         failed = False
         rb = r[b]
+        kmax, amax = -1, -1.0
         for k in range(N):
-            up[k] = -1.0
+            na_[k] = -1.0
             if not nvalid[k]:
                 continue
             if not ok[b, k]:
@@ -131,22 +141,13 @@ def reduce_point(pos, ok, nom, nrm, nvalid, S, Q, smax, g, r, lo, width, hist_up
             mom[k, 0] += s
             mom[k, 1] += s * s
             G = 0.0
-            U = na
-            L = na
-            if P:
-                ux, uy = (ax / na, ay / na) if na > 0.0 else (nrm[k, 0], nrm[k, 1])
-                for j in range(P):
-                    G += rb[j] * g[j, k]
-                    U += rb[j] * smax[j, k]
-                    tx = S[j, k, 0, 0] * ux + S[j, k, 1, 0] * uy
-                    ty = S[j, k, 0, 1] * ux + S[j, k, 1, 1] * uy
-                    L += rb[j] * math.sqrt(tx * tx + ty * ty)
-            if L > best:
-                best = L
-                kbest = k
-            if na > 0.0:   # |n − â| = 2 sin(φ/2) and G Lipschitz by M = U − |a|: F ≤ L + M²/(2|a|)
-                U = min(U, L + (U - na) * (U - na) / (2.0 * na))
-            up[k] = U
+            M = 0.0
+            for j in range(P):
+                G += rb[j] * g[j, k]
+                M += rb[j] * smax[j, k]
+            na_[k], mk[k] = na, M
+            if na > amax:
+                amax, kmax = na, k
             _bin(hist_up, k, s + G, lo[k], width[k], nb)
             _bin(hist_lo, k, s - G, lo[k], width[k], nb)
             ext[k, 0] = min(ext[k, 0], s - G)
@@ -156,22 +157,36 @@ def reduce_point(pos, ok, nom, nrm, nvalid, S, Q, smax, g, r, lo, width, hist_up
         if failed:
             dev[b] = np.inf
             continue
-        if P and kbest >= 0:
-            # the exact worst case where the bounds leave room: first where the lower bound
-            # peaks (it raises ``best`` most), then each sample whose upper bound exceeds it,
-            # Newton starting from the neighbouring sample's optimum
-            ax, ay = pos[b, kbest, 0] - nom[kbest, 0], pos[b, kbest, 1] - nom[kbest, 1]
-            v, wx, wy = _worst(ax, ay, rb, S, Q, kbest, 0.0, 0.0)
-            best = max(best, v)
-            last = -2
-            for k in range(N):
-                if up[k] > best and k != kbest:
-                    ax, ay = pos[b, k, 0] - nom[k, 0], pos[b, k, 1] - nom[k, 1]
-                    warm = last == k - 1
-                    v, wx, wy = _worst(ax, ay, rb, S, Q, k, wx if warm else 0.0, wy if warm else 0.0)
-                    last = k
-                    if v > best:
-                        best = v
+        if kmax < 0:
+            dev[b] = 0.0
+            continue
+        if P == 0:
+            dev[b] = amax
+            continue
+        ax, ay = pos[b, kmax, 0] - nom[kmax, 0], pos[b, kmax, 1] - nom[kmax, 1]
+        best, wx, wy = _worst(ax, ay, rb, S, Q, mk[kmax], kmax, 0.0, 0.0)
+        last = -2
+        for k in range(N):
+            na = na_[k]
+            if k == kmax or na < 0.0 or na + mk[k] <= best:
+                continue
+            ax, ay = pos[b, k, 0] - nom[k, 0], pos[b, k, 1] - nom[k, 1]
+            U = na + mk[k]
+            if na > 0.0:
+                L = na
+                ux, uy = ax / na, ay / na
+                for j in range(P):
+                    tx = S[j, k, 0, 0] * ux + S[j, k, 1, 0] * uy
+                    ty = S[j, k, 0, 1] * ux + S[j, k, 1, 1] * uy
+                    L += rb[j] * math.sqrt(tx * tx + ty * ty)
+                best = max(best, L)
+                U = min(U, L + mk[k] * mk[k] / (2.0 * na))
+            if U > best:
+                warm = last == k - 1
+                v, wx, wy = _worst(ax, ay, rb, S, Q, mk[k], k, wx if warm else 0.0, wy if warm else 0.0)
+                last = k
+                if v > best:
+                    best = v
         dev[b] = best
 
 
