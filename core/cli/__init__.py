@@ -21,6 +21,7 @@ from ..errors import MechsketchError, Problem, StructureError
 from ..runtime import tune_allocator
 from .design_cmds import add_design_parser
 from .export_cmds import add_export_parser
+from .study_cmds import add_study_parser
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..workspace import Workspace
@@ -131,6 +132,7 @@ def build_parser() -> argparse.ArgumentParser:
     c.add_argument("--samples", type=int, metavar="N")
     c.add_argument("--csv", metavar="PATH|-", required=True)
     add_design_parser(sub)
+    add_study_parser(sub)
     o = sub.add_parser("open", help="open a scene file in the desktop app")
     o.add_argument("scene", nargs="?")
     return p
@@ -206,6 +208,10 @@ def run(args: argparse.Namespace) -> int:
     from ..io.scene_file import load_scene, validate_file
     from ..workspace import Workspace
 
+    if args.command == "study":
+        from .study_cmds import run as run_study
+
+        return run_study(args)
     if args.command == "design":
         from .design_cmds import run_design
 
