@@ -1,0 +1,182 @@
+"""The linkage topologies synthesis designs, in closed form over (designs, samples) with exact
+derivatives: the four-bar (RRR), the slider-crank (RRP) and the inverted slider-crank (RPR).
+
+A design is a parameter vector in the world frame (mm, rad), one row per design:
+
+=========================  =====================================================================
+``fourbar``                Ax Ay Dx Dy a b c px py — crank pivot A, rocker pivot D, crank AB = a,
+                           coupler BC = b, rocker DC = c; the coupler point P = B + (px + i·py)·
+                           (C − B)/b (its coordinates in the coupler's frame: x along B→C)
+``slider_crank``           Ax Ay g h a b px py — crank pivot A; the slider's pin C moves on the
+                           line {A + (s + i·h)·e^{ig}} (direction g rad, offset h mm from A);
+                           crank a, rod BC = b; P = B + (px + i·py)·(C − B)/b
+``inverted_slider_crank``  Ax Ay Gx Gy a e px py — crank pivot A, rocker pivot G; the crank pin
+                           B slides in a guide of the rocker at offset e from G (u: the guide's
+                           direction); the block carries P = B + (px + i·py)·u
+=========================  =====================================================================
+
+plus an assembly mode σ = ±1 per design (which of the two closures). The crank angle θ (rad,
+world frame, of A→B) is per sample. :func:`evaluate` gives the coupler point P (complex, mm),
+the output (a rocker's angle, rad; a slider's position along its line, mm), the sine of the
+transmission angle, and, with ``grad``, ∂P/∂(parameters, θ) and ∂output/∂(...) from
+:class:`~.dual.Dual` (the same closed forms differentiated: exact to rounding). NaN marks samples
+that cannot be assembled. The product's solver is the reference: the tests compare P and the
+output with ``compile_plan(...).evaluate`` of the linkage :mod:`.candidates` builds.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .dual import Dual
+
+FOURBAR, SLIDER_CRANK, INVERTED = "fourbar", "slider_crank", "inverted_slider_crank"
+
+PARAMS: dict[str, tuple[str, ...]] = {
+    FOURBAR: ("Ax", "Ay", "Dx", "Dy", "a", "b", "c", "px", "py"),
+    SLIDER_CRANK: ("Ax", "Ay", "g", "h", "a", "b", "px", "py"),
+    INVERTED: ("Ax", "Ay", "Gx", "Gy", "a", "e", "px", "py"),
+}
+#: parameters that are lengths which must stay positive
+POSITIVE: dict[str, tuple[str, ...]] = {FOURBAR: ("a", "b", "c"), SLIDER_CRANK: ("a", "b"), INVERTED: ("a",)}
+#: the output's unit per topology (rocker angle or slider position)
+OUTPUT_UNIT = {FOURBAR: "rad", SLIDER_CRANK: "mm", INVERTED: "rad"}
+TOPOLOGIES = tuple(PARAMS)
+
+
+@dataclass
+class Evaluation:
+    """Closed-form kinematics of D designs at N samples each.
+
+    ``P`` (D, N) complex mm; ``out`` (D, N) float (rad or mm); ``cpl`` (D, N) the coupler's
+    angle, rad (of B→C; the inverted slider-crank's block: of its guide u); ``sin_mu`` (D, N)
+    the sine of the transmission angle (0 at a dead point); ``joints`` name -> (D, N) complex
+    (B, C, ...); ``dP``, ``dout``, ``dcpl`` (D, N, K + 1) the derivatives with respect to the K
+    parameters and, last, the crank angle θ (None without ``grad``); ``ok`` (D, N) assembled."""
+
+    P: np.ndarray
+    out: np.ndarray
+    cpl: np.ndarray
+    sin_mu: np.ndarray
+    joints: dict[str, np.ndarray]
+    ok: np.ndarray
+    dP: np.ndarray | None = None
+    dout: np.ndarray | None = None
+    dcpl: np.ndarray | None = None
+
+
+def _val(x: Any) -> np.ndarray:
+    return x.v if isinstance(x, Dual) else x
+
+
+def _sqrt(x):
+    if isinstance(x, Dual):
+        return x.sqrt()
+    with np.errstate(invalid="ignore"):
+        return np.sqrt(x)
+
+
+def _expi(x):
+    return x.expi() if isinstance(x, Dual) else np.exp(1j * x)
+
+
+def _abs2(z):
+    return z.abs2() if isinstance(z, Dual) else z.real ** 2 + z.imag ** 2
+
+
+def _conj(z):
+    return z.conj() if isinstance(z, Dual) else np.conj(z)
+
+
+def _re(z):
+    return z.real if isinstance(z, Dual) else np.real(z)
+
+
+def _im(z):
+    return z.imag if isinstance(z, Dual) else np.imag(z)
+
+
+def _angle(z):
+    return z.angle() if isinstance(z, Dual) else np.angle(z)
+
+
+def _fourbar(p: list, th, sigma: np.ndarray) -> tuple:
+    ax, ay, dx, dy, a, b, c, px, py = p
+    A, D = ax + 1j * ay, dx + 1j * dy
+    B = A + a * _expi(th)
+    d = D - B
+    L2 = _abs2(d)
+    x = (b * b - c * c + L2) / (2.0 * L2)
+    h = _sqrt(b * b / L2 - x * x)
+    C = B + d * (x + 1j * sigma * h)
+    P = B + (px + 1j * py) * (C - B) / b
+    out = _angle(C - D)
+    sin_mu = np.abs(np.imag(np.conj(_val(C) - _val(B)) * (_val(C) - _val(D)))) / (_val(b) * _val(c))
+    return P, out, _angle(C - B), sin_mu, {"A": _val(A), "B": _val(B), "C": _val(C), "D": _val(D)}
+
+
+def _slider_crank(p: list, th, sigma: np.ndarray) -> tuple:
+    ax, ay, g, h, a, b, px, py = p
+    A = ax + 1j * ay
+    e = _expi(g)
+    B = A + a * _expi(th)
+    Bl = _conj(e) * (B - A)
+    q = _sqrt(b * b - (h - _im(Bl)) * (h - _im(Bl)))
+    s = _re(Bl) + sigma * q
+    C = A + (s + 1j * h) * e
+    P = B + (px + 1j * py) * (C - B) / b
+    sin_mu = np.abs(_val(q)) / _val(b)
+    return P, s, _angle(C - B), sin_mu, {"A": _val(A), "B": _val(B), "C": _val(C), "e": _val(e)}
+
+
+def _inverted(p: list, th, sigma: np.ndarray) -> tuple:
+    ax, ay, gx, gy, a, e, px, py = p
+    A, G = ax + 1j * ay, gx + 1j * gy
+    B = A + a * _expi(th)
+    r = B - G
+    r2 = _abs2(r)
+    t = sigma * _sqrt(r2 - e * e)
+    u = r * (t - 1j * e) / r2
+    P = B + (px + 1j * py) * u
+    out = _angle(u)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        sin_mu = np.abs(_val(t)) / np.sqrt(_val(r2))
+    return P, out, out, sin_mu, {"A": _val(A), "B": _val(B), "G": _val(G), "u": _val(u)}
+
+
+_EVAL = {FOURBAR: _fourbar, SLIDER_CRANK: _slider_crank, INVERTED: _inverted}
+
+
+def evaluate(topology: str, x: np.ndarray, theta: np.ndarray, sigma=1.0, grad: bool = False) -> Evaluation:
+    """Kinematics of designs ``x`` (D, K) at crank angles ``theta`` (D, N) rad (world frame), in
+    assembly modes ``sigma`` (scalar or (D,) of ±1). See the module docstring."""
+    x = np.atleast_2d(np.asarray(x, dtype=float))
+    th = np.asarray(theta, dtype=float)
+    if th.ndim == 1:
+        th = np.broadcast_to(th, (x.shape[0], th.shape[0]))
+    sig = np.broadcast_to(np.asarray(sigma, dtype=float).reshape(-1, 1), (x.shape[0], 1))
+    k = x.shape[1]
+    if k != len(PARAMS[topology]):
+        raise ValueError(f"{topology}: {len(PARAMS[topology])} parameters expected, got {k}")
+    if grad:
+        cols = [Dual.seed(x[:, j:j + 1], j, k + 1) for j in range(k)]
+        thd = Dual(th, np.zeros(th.shape + (k + 1,)))
+        thd.d[..., k] = 1.0
+    else:
+        cols, thd = [x[:, j:j + 1] for j in range(k)], th
+    with np.errstate(invalid="ignore", divide="ignore"):
+        P, out, cpl, sin_mu, joints = _EVAL[topology](cols, thd, sig)
+    Pv, ov, cv = _val(P), _val(out), _val(cpl)
+    ok = np.isfinite(Pv) & np.isfinite(ov)
+    shape = Pv.shape
+    if not grad:
+        return Evaluation(Pv, np.broadcast_to(ov, shape), np.broadcast_to(cv, shape), sin_mu, joints, ok)
+    full = shape + (k + 1,)
+    return Evaluation(Pv, np.broadcast_to(ov, shape), np.broadcast_to(cv, shape), sin_mu, joints, ok, P.d,
+                      np.broadcast_to(out.d, full), np.broadcast_to(cpl.d, full))
+
+
+__all__ = ["Evaluation", "FOURBAR", "INVERTED", "OUTPUT_UNIT", "PARAMS", "POSITIVE", "SLIDER_CRANK", "TOPOLOGIES",
+           "evaluate"]

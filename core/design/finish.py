@@ -1,0 +1,120 @@
+"""The last step of every linkage synthesis: from designs ranked by their closed form to checked
+candidates, best first, each a linkage element that passed the product's solver.
+
+:func:`finish` walks the ranked designs, builds each as a linkage (:func:`~.candidates.build_linkage`),
+drives it over its target span with :func:`~.candidates.drive_check`, measures the deviation
+from the target with the solver's own motion (a ``measure`` callback of the synthesis), drops
+near-duplicates, and stops at K. Refusals are counted by reason for the notes (and for the error
+message when nothing passes).
+"""
+from __future__ import annotations
+
+from collections import Counter
+from dataclasses import dataclass
+from typing import Callable, Iterable
+
+import numpy as np
+
+from ..solver.plan import Plan
+from . import families as F
+from .candidates import Candidate, Stopwatch, build_linkage, drive_check, kind_text, span_inputs
+from .options import LinkageOptions
+from .targets import Progress, report
+
+
+@dataclass
+class Design:
+    """A design ranked by its closed form: ``x`` (:mod:`.families` parameters), mode ``sigma``,
+    crank ``direction`` (±1), ``inputs`` (n,) the crank angles (rad, world) at the target's
+    points in order, ``score`` (larger is better), ``seconds`` spent on it so far."""
+
+    topology: str
+    x: np.ndarray
+    sigma: float
+    direction: float
+    inputs: np.ndarray
+    score: float = 0.0
+    seconds: float = 0.0
+
+
+#: two designs whose pivots and pins all lie closer than this fraction of the size are one
+DISTINCT = 0.03
+
+#: measure(plan, design) -> (deviation, unit, angle deviation or None, rms or None) with the solver
+Measure = Callable[[Plan, Design], tuple[float, str, "float | None", "float | None"]]
+
+
+def _signature(d: Design, size: float) -> np.ndarray:
+    """Where its pivots and pins are (world, mm / size): two designs this close are the same."""
+    ev = F.evaluate(d.topology, d.x[None], np.array([[d.inputs[0]]]), d.sigma)
+    pts = [v[0, 0] for k, v in sorted(ev.joints.items()) if np.iscomplexobj(v) and k not in ("e", "u")]
+    return np.array([p for z in pts for p in (z.real, z.imag)]) / size
+
+
+def finish(designs: Iterable[Design], options: LinkageOptions, size: float, closed: bool, measure: Measure,
+           output: bool = False, point: bool = True, progress: Progress | None = None,
+           limit: int = 200, fraction: tuple[float, float] = (0.8, 1.0)) -> tuple[list[Candidate], Counter]:
+    """Checked candidates from ``designs`` (best first), at most ``options.candidates``; tries at
+    most ``limit`` designs. Returns the candidates and the refusals counted by reason."""
+    out: list[Candidate] = []
+    seen: list[np.ndarray] = []
+    refused: Counter = Counter()
+    k = options.candidates
+    designs = list(designs)[:limit]
+    lo, hi = fraction
+    for n, d in enumerate(designs):
+        if len(out) >= k:
+            break
+        report(progress, lo + (hi - lo) * n / max(len(designs), 1), f"checking design {n + 1} of {len(designs)}")
+        watch = Stopwatch()
+        sig = _signature(d, size)
+        if any(np.max(np.abs(sig - s)) < DISTINCT for s in seen):
+            refused["a near-duplicate of a better one"] += 1
+            continue
+        theta = span_inputs(d.inputs, d.direction, closed)
+        if theta is None:
+            refused["order defect (the targets are not met in order)"] += 1
+            continue
+        try:
+            lk = build_linkage(d.topology, d.x, d.sigma, float(d.inputs[0]), f"{options.prefix}_{len(out) + 1}",
+                               d.direction, output, point, options.speed_rpm, options.samples)
+        except ValueError as exc:   # GeometryError: not assembled at the drawn input
+            refused[str(exc)] += 1
+            continue
+        chk = drive_check(lk, d.topology, d.x, d.sigma, theta, options.min_transmission_deg, size)
+        if not chk.ok:
+            refused[_reason(chk.reason)] += 1
+            continue
+        if options.full_turn and not chk.full_turn:
+            refused["the crank does not turn fully"] += 1
+            continue
+        kind = kind_text(d.topology, d.x)
+        if options.grashof is not None and not kind.startswith(options.grashof):
+            refused[f"not a {options.grashof}"] += 1
+            continue
+        dev, unit, adev, rms = measure(chk.plan, d)
+        out.append(Candidate(lk, d.topology, d.x, d.sigma, d.direction, d.inputs, dev, unit,
+                             chk.min_transmission_deg, kind, chk.full_turn, d.seconds + watch.elapsed, adev, rms))
+        seen.append(sig)
+    return out, refused
+
+
+def _reason(text: str) -> str:
+    """A refusal's reason without its numbers (so that they count together)."""
+    if "transmission angle" in text:
+        return "transmission angle below the minimum in the span"
+    if "cannot be assembled" in text:
+        return "a dead point or an unassemblable pose inside the span"
+    if "branch" in text:
+        return "branch defect (the solver's motion leaves the design's branch)"
+    if "cannot be cut" in text:
+        return "its parts cannot be cut (validate)"
+    return text.split(":")[0]
+
+
+def refusal_text(refused: Counter) -> str:
+    """The refusals as ``"12 for <reason>, ..."`` (most frequent first)."""
+    return "; ".join(f"{n} for {why}" for why, n in refused.most_common())
+
+
+__all__ = ["Design", "Measure", "finish", "refusal_text"]

@@ -1,0 +1,73 @@
+"""Least-squares refinement of many designs at once (Levenberg–Marquardt, batched).
+
+``x, cost = levenberg_marquardt(fun, x0)``: ``x0`` (D, U) starting points of D independent
+problems with U unknowns each; ``fun(x, rows)`` returns, for the problems ``rows`` (indices into
+the D, one per row of ``x``), the residuals (len(rows), R) and their exact Jacobian (…, R, U) (from :mod:`.families` through :class:`~.dual.Dual`). Each problem keeps its own
+damping λ: a step that lowers its cost is taken and λ shrinks, else λ grows and the step is
+retried. A residual that is NaN (a design that cannot be assembled) counts as an infinite cost,
+so a step never leaves the assemblable region. Stops per problem when the cost stops falling
+(relative 1e-15) or the step is below ``xtol`` relative to the unknowns.
+"""
+from __future__ import annotations
+
+from typing import Callable
+
+import numpy as np
+
+Fun = Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]]
+
+
+def _cost(r: np.ndarray) -> np.ndarray:
+    c = 0.5 * np.sum(r * r, axis=1)
+    return np.where(np.isfinite(c), c, np.inf)
+
+
+def levenberg_marquardt(fun: Fun, x0: np.ndarray, iterations: int = 60, xtol: float = 1e-15,
+                        stop: Callable[[], None] | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Minimise ½‖r(x)‖² for each row of ``x0`` (D, U); returns (x (D, U), cost (D,)).
+    ``stop()`` is called once per iteration (it may raise to cancel)."""
+    x = np.array(x0, dtype=float)
+    r, J = fun(x, np.arange(x.shape[0]))
+    cost = _cost(r)
+    lam = np.full(x.shape[0], 1e-3)
+    active = np.isfinite(cost)
+    U = x.shape[1]
+    eye = np.eye(U)
+    for _ in range(iterations):
+        if stop is not None:
+            stop()
+        if not active.any():
+            break
+        idx = np.flatnonzero(active)
+        Ja, ra = J[idx], r[idx]
+        Ja = np.where(np.isfinite(Ja), Ja, 0.0)
+        JtJ = np.einsum("dri,drj->dij", Ja, Ja)
+        g = np.einsum("dri,dr->di", Ja, ra)
+        diag = np.einsum("dii->di", JtJ)
+        scale = np.maximum(diag, 1e-12 * (diag.max(axis=1, keepdims=True) + 1e-300))
+        A = JtJ + lam[idx, None, None] * scale[:, :, None] * eye
+        try:
+            step = -np.linalg.solve(A, g[..., None])[..., 0]
+        except np.linalg.LinAlgError:
+            step = -np.stack([np.linalg.lstsq(a, b, rcond=None)[0] for a, b in zip(A, g)])
+        xn = x[idx] + step
+        rn, Jn = fun(xn, idx)
+        cn = _cost(rn)
+        better = cn < cost[idx]
+        acc = idx[better]
+        rel = (cost[acc] - cn[better]) / np.maximum(cost[acc], 1e-300)
+        x[acc], r[acc], J[acc], cost[acc] = xn[better], rn[better], Jn[better], cn[better]
+        lam[acc] = np.maximum(lam[acc] / 3.0, 1e-12)
+        rej = idx[~better]
+        lam[rej] = lam[rej] * 4.0
+        small = np.max(np.abs(step), axis=1) <= xtol * (1.0 + np.max(np.abs(x[idx]), axis=1))
+        done = np.zeros(x.shape[0], dtype=bool)
+        done[acc[rel < 1e-15]] = True
+        done[idx[small]] = True
+        done[rej[lam[rej] > 1e12]] = True
+        done |= cost <= 1e-32
+        active &= ~done
+    return x, cost
+
+
+__all__ = ["levenberg_marquardt"]
