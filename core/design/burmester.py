@@ -64,17 +64,20 @@ def _cofactors(alpha: np.ndarray, delta: np.ndarray) -> np.ndarray:
     return np.array([-(c2 + c3 + c4), c2, c3, c4])
 
 
-def four_pose_dyads(target: PoseTarget, samples: int = 360) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def four_pose_dyads(target: PoseTarget, samples: int = 360, beta2: np.ndarray | None = None
+                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """4 poses: (circle points m, centre points G, crank turns β (·, 3) rad) along Burmester's
-    curves, ``samples`` values of β₂ over a turn, two solutions each (where they exist). The
-    trivial solution (crank and coupler one rigid link, β = α) is left out."""
+    curves, ``samples`` values of β₂ over a turn (or the given ``beta2``, rad), two solutions
+    each (where they exist). The trivial solution (crank and coupler one rigid link, β = α) is
+    left out."""
     if len(target.points) != 4:
         raise ValueError("four_pose_dyads needs exactly 4 poses")
     P = target.complex_points
     alpha = target.angles_rad[1:] - target.angles_rad[0]
     delta = P[1:] - P[0]
     d1, d2, d3, d4 = _cofactors(alpha, delta)
-    b2 = np.linspace(0.0, 2 * math.pi, samples, endpoint=False) + math.pi / samples
+    b2 = (np.linspace(0.0, 2 * math.pi, samples, endpoint=False) + math.pi / samples if beta2 is None
+          else np.asarray(beta2, dtype=float).reshape(-1))
     S = d1 + d2 * np.exp(1j * b2)
     r3, r4, rs = abs(d3), abs(d4), np.abs(S)
     with np.errstate(invalid="ignore", divide="ignore"):

@@ -94,6 +94,11 @@ class Dual:
             s = np.sqrt(self.v)
             return Dual(s, self.d * (0.5 / s)[..., None])
 
+    def abs(self) -> "Dual":
+        """|v| of a real value."""
+        sg = np.sign(self.v)
+        return Dual(np.abs(self.v), self.d * sg[..., None])
+
     def abs2(self) -> "Dual":
         """|z|² of a complex value (real)."""
         return Dual(np.abs(self.v) ** 2, 2.0 * np.real(np.conj(self.v)[..., None] * self.d))

@@ -65,6 +65,7 @@ class Evaluation:
     dP: np.ndarray | None = None
     dout: np.ndarray | None = None
     dcpl: np.ndarray | None = None
+    dsin_mu: np.ndarray | None = None
 
 
 def _val(x: Any) -> np.ndarray:
@@ -98,6 +99,10 @@ def _im(z):
     return z.imag if isinstance(z, Dual) else np.imag(z)
 
 
+def _abs(x):
+    return x.abs() if isinstance(x, Dual) else np.abs(x)
+
+
 def _angle(z):
     return z.angle() if isinstance(z, Dual) else np.angle(z)
 
@@ -113,7 +118,7 @@ def _fourbar(p: list, th, sigma: np.ndarray) -> tuple:
     C = B + d * (x + 1j * sigma * h)
     P = B + (px + 1j * py) * (C - B) / b
     out = _angle(C - D)
-    sin_mu = np.abs(np.imag(np.conj(_val(C) - _val(B)) * (_val(C) - _val(D)))) / (_val(b) * _val(c))
+    sin_mu = _abs(_im(_conj(C - B) * (C - D)) / (b * c))
     return P, out, _angle(C - B), sin_mu, {"A": _val(A), "B": _val(B), "C": _val(C), "D": _val(D)}
 
 
@@ -127,7 +132,7 @@ def _slider_crank(p: list, th, sigma: np.ndarray) -> tuple:
     s = _re(Bl) + sigma * q
     C = A + (s + 1j * h) * e
     P = B + (px + 1j * py) * (C - B) / b
-    sin_mu = np.abs(_val(q)) / _val(b)
+    sin_mu = _abs(q / b)
     return P, s, _angle(C - B), sin_mu, {"A": _val(A), "B": _val(B), "C": _val(C), "e": _val(e)}
 
 
@@ -141,8 +146,7 @@ def _inverted(p: list, th, sigma: np.ndarray) -> tuple:
     u = r * (t - 1j * e) / r2
     P = B + (px + 1j * py) * u
     out = _angle(u)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        sin_mu = np.abs(_val(t)) / np.sqrt(_val(r2))
+    sin_mu = _abs(t / _sqrt(r2))
     return P, out, out, sin_mu, {"A": _val(A), "B": _val(B), "G": _val(G), "u": _val(u)}
 
 
@@ -168,14 +172,14 @@ def evaluate(topology: str, x: np.ndarray, theta: np.ndarray, sigma=1.0, grad: b
         cols, thd = [x[:, j:j + 1] for j in range(k)], th
     with np.errstate(invalid="ignore", divide="ignore"):
         P, out, cpl, sin_mu, joints = _EVAL[topology](cols, thd, sig)
-    Pv, ov, cv = _val(P), _val(out), _val(cpl)
+    Pv, ov, cv, sv = _val(P), _val(out), _val(cpl), _val(sin_mu)
     ok = np.isfinite(Pv) & np.isfinite(ov)
     shape = Pv.shape
     if not grad:
-        return Evaluation(Pv, np.broadcast_to(ov, shape), np.broadcast_to(cv, shape), sin_mu, joints, ok)
+        return Evaluation(Pv, np.broadcast_to(ov, shape), np.broadcast_to(cv, shape), sv, joints, ok)
     full = shape + (k + 1,)
-    return Evaluation(Pv, np.broadcast_to(ov, shape), np.broadcast_to(cv, shape), sin_mu, joints, ok, P.d,
-                      np.broadcast_to(out.d, full), np.broadcast_to(cpl.d, full))
+    return Evaluation(Pv, np.broadcast_to(ov, shape), np.broadcast_to(cv, shape), sv, joints, ok, P.d,
+                      np.broadcast_to(out.d, full), np.broadcast_to(cpl.d, full), np.broadcast_to(sin_mu.d, full))
 
 
 __all__ = ["Evaluation", "FOURBAR", "INVERTED", "OUTPUT_UNIT", "PARAMS", "POSITIVE", "SLIDER_CRANK", "TOPOLOGIES",

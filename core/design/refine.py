@@ -5,7 +5,8 @@ problems with U unknowns each; ``fun(x, rows)`` returns, for the problems ``rows
 the D, one per row of ``x``), the residuals (len(rows), R) and their exact Jacobian (…, R, U) (from :mod:`.families` through :class:`~.dual.Dual`). Each problem keeps its own
 damping λ: a step that lowers its cost is taken and λ shrinks, else λ grows and the step is
 retried. A residual that is NaN (a design that cannot be assembled) counts as an infinite cost,
-so a step never leaves the assemblable region. Stops per problem when the cost stops falling
+so a step never leaves the assemblable region. Bounds (``lower``, ``upper``: (U,) or (D, U)) clip
+each step (a projected method). Stops per problem when the cost stops falling
 (relative 1e-15) or the step is below ``xtol`` relative to the unknowns.
 """
 from __future__ import annotations
@@ -23,10 +24,15 @@ def _cost(r: np.ndarray) -> np.ndarray:
 
 
 def levenberg_marquardt(fun: Fun, x0: np.ndarray, iterations: int = 60, xtol: float = 1e-15,
-                        stop: Callable[[], None] | None = None) -> tuple[np.ndarray, np.ndarray]:
+                        stop: Callable[[], None] | None = None, lower: np.ndarray | None = None,
+                        upper: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Minimise ½‖r(x)‖² for each row of ``x0`` (D, U); returns (x (D, U), cost (D,)).
     ``stop()`` is called once per iteration (it may raise to cancel)."""
     x = np.array(x0, dtype=float)
+    lo = None if lower is None else np.broadcast_to(np.asarray(lower, float), x.shape)
+    hi = None if upper is None else np.broadcast_to(np.asarray(upper, float), x.shape)
+    if lo is not None or hi is not None:
+        x = np.clip(x, lo, hi)
     r, J = fun(x, np.arange(x.shape[0]))
     cost = _cost(r)
     lam = np.full(x.shape[0], 1e-3)
@@ -51,6 +57,9 @@ def levenberg_marquardt(fun: Fun, x0: np.ndarray, iterations: int = 60, xtol: fl
         except np.linalg.LinAlgError:
             step = -np.stack([np.linalg.lstsq(a, b, rcond=None)[0] for a, b in zip(A, g)])
         xn = x[idx] + step
+        if lo is not None or hi is not None:
+            xn = np.clip(xn, None if lo is None else lo[idx], None if hi is None else hi[idx])
+            step = xn - x[idx]
         rn, Jn = fun(xn, idx)
         cn = _cost(rn)
         better = cn < cost[idx]
@@ -70,4 +79,14 @@ def levenberg_marquardt(fun: Fun, x0: np.ndarray, iterations: int = 60, xtol: fl
     return x, cost
 
 
-__all__ = ["levenberg_marquardt"]
+def floor_penalty(v: np.ndarray, dv: np.ndarray, floor: float, weight: float) -> tuple[np.ndarray, np.ndarray]:
+    """A residual that is 0 while ``v`` (D, S) ≥ ``floor`` and grows as ``weight``·(floor − v)
+    below it, with its Jacobian from ``dv`` (D, S, U): a soft lower bound (e.g. on sin μ)."""
+    short = np.where(np.isfinite(v), floor - v, 1.0)
+    act = short > 0.0
+    r = np.where(act, weight * short, 0.0)
+    J = np.where(act[..., None], -weight * np.where(np.isfinite(dv), dv, 0.0), 0.0)
+    return r, J
+
+
+__all__ = ["floor_penalty", "levenberg_marquardt"]
