@@ -40,6 +40,15 @@ def positions(target: PoseTarget, m: np.ndarray) -> np.ndarray:
     return P[None, :] + turn[None, :] * (m - P[0])
 
 
+def inverse_positions(target: PoseTarget, g: np.ndarray) -> np.ndarray:
+    """(G, n) the frame points ``g`` (G,) seen from the body in each pose, drawn in pose 1: a
+    circle point is equidistant from these (the inverse motion's circle points are the centre
+    points)."""
+    P, turn = pose_maps(target)
+    g = np.asarray(g, dtype=complex).reshape(-1, 1)
+    return P[0] + np.conj(turn)[None, :] * (g - P[None, :])
+
+
 def circumcentre(z1: np.ndarray, z2: np.ndarray, z3: np.ndarray) -> np.ndarray:
     """Centre of the circle through three points (complex arrays; inf/NaN where collinear)."""
     a, b = z2 - z1, z3 - z1
@@ -51,6 +60,12 @@ def circumcentre(z1: np.ndarray, z2: np.ndarray, z3: np.ndarray) -> np.ndarray:
 def circle_centres(target: PoseTarget, m: np.ndarray) -> np.ndarray:
     """3 poses: the centre point of each circle point ``m`` (G,) (pose 1, world)."""
     z = positions(target, m)
+    return circumcentre(z[:, 0], z[:, 1], z[:, 2])
+
+
+def circle_points(target: PoseTarget, g: np.ndarray) -> np.ndarray:
+    """3 poses: the circle point (pose 1, world) of each centre point ``g`` (G,)."""
+    z = inverse_positions(target, g)
     return circumcentre(z[:, 0], z[:, 1], z[:, 2])
 
 
@@ -109,9 +124,14 @@ def four_pose_dyads(target: PoseTarget, samples: int = 360, beta2: np.ndarray | 
 
 def fit_centres(target: PoseTarget, m: np.ndarray, iterations: int = 8) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Least-squares circle of each point's positions: (centres (G,), radii (G,), RMS residual
-    (G,) mm of |m_j − G| − R). Algebraic fit (Kåsa), then Gauss–Newton on the geometric distance.
-    With 3 poses it is the circumcircle (residual 0)."""
-    z = positions(target, m)
+    (G,) mm of |m_j − G| − R). With 3 poses it is the circumcircle (residual 0)."""
+    return fit_circles(positions(target, m), iterations)
+
+
+def fit_circles(z: np.ndarray, iterations: int = 8) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The least-squares circle through each row of points ``z`` (G, n) complex: (centres (G,),
+    radii (G,), RMS residual (G,)). Algebraic fit (Kåsa), then Gauss–Newton on the geometric
+    distance."""
     x, y = z.real, z.imag
     # algebraic: x² + y² = 2·cx·x + 2·cy·y + k
     A = np.stack([2 * x, 2 * y, np.ones_like(x)], axis=-1)
@@ -145,5 +165,5 @@ def concyclic_residual(target: PoseTarget, m: np.ndarray, g: np.ndarray) -> np.n
     return d.max(axis=1) - d.min(axis=1)
 
 
-__all__ = ["circle_centres", "circumcentre", "concyclic_residual", "fit_centres", "four_pose_dyads", "pose_maps",
+__all__ = ["circle_centres", "circle_points", "fit_circles", "inverse_positions", "circumcentre", "concyclic_residual", "fit_centres", "four_pose_dyads", "pose_maps",
            "positions"]

@@ -24,6 +24,7 @@ import numpy as np
 from ..analyses.classify import fourbar_type
 from ..analyses.parts import require_checked
 from ..analyses.parts.build import PartOptions, element_parts, min_web_of
+from ..analyses.parts.linkage import BORE_FRACTION, BOSS_FRACTION, scale_of
 from ..errors import GeometryError, MechsketchError
 from ..model.linkage import Driver, Joint, JointKind, Link, Linkage
 from ..model.linkage_parse import parse
@@ -188,12 +189,30 @@ def drive_check(linkage: Linkage, topology: str, x: np.ndarray, sigma: float, th
         return DriveCheck(False, f"transmission angle {mu:.1f}° < {min_mu_deg:g}° inside the span", plan, mu)
     full = bool(plan.evaluate(theta[0] + np.linspace(0.0, 2 * math.pi, 361), order=0).valid.all())
     if parts:
+        short = _too_close(linkage)
+        if short:
+            return DriveCheck(False, f"cannot be cut: {short}", plan, mu, full)
         try:
             opts = PartOptions()
             require_checked(element_parts(linkage, opts, plan), min_web_of(linkage, opts))
         except (GeometryError, ValueError) as exc:
             return DriveCheck(False, f"cannot be cut: {exc}", plan, mu, full)
     return DriveCheck(True, "", plan, mu, full)
+
+
+def _too_close(linkage: Linkage) -> str:
+    """Why two bores of one link would leave less than the minimum web between them with the
+    export's default sizes (a quick test before the full part check), or ""."""
+    bore = BORE_FRACTION * BOSS_FRACTION * scale_of(linkage)
+    need = 2.0 * bore + 1.1 * min_web_of(linkage, PartOptions())
+    for lk in linkage.links:
+        pts = [(j, linkage.joint(j)) for j in lk.joints if linkage.joint(j).kind is JointKind.R]
+        for i, (a, ja) in enumerate(pts):
+            for b, jb in pts[i + 1:]:
+                if math.dist(ja.at, jb.at) < need:
+                    return f"joints {a} and {b} of link {lk.id} are {math.dist(ja.at, jb.at):.3g} mm apart, " \
+                           f"less than two bores and the minimum web ({need:.3g} mm)"
+    return ""
 
 
 class Stopwatch:

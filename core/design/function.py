@@ -156,7 +156,7 @@ def synthesize_function(target: FunctionTarget, options: LinkageOptions = Linkag
     notes.append(f"{int((~exact).sum())} with a circuit defect")
     x, sigma, theta, err = x[exact], sigma[exact], theta[exact], err[exact]
     report(progress, 0.6, f"transmission angles of {len(x)} designs")
-    mu, span_ok, full = _screen(topology, x, sigma, theta, direction) if len(x) else (np.empty(0),) * 3
+    mu, span_ok, full = _screen(topology, x, sigma, theta, direction) if len(x) else (np.empty(0), np.zeros(0, bool), np.zeros(0, bool))
     mu_deg = np.degrees(np.arcsin(np.clip(mu, 0.0, 1.0)))
     longest = np.max(np.abs(x[:, 4:7] if topology == F.FOURBAR else x[:, 3:6]), axis=1) if len(x) else np.empty(0)
     good = span_ok & (mu_deg >= options.min_transmission_deg) & (longest <= options.max_size * scale)

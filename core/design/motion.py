@@ -42,30 +42,48 @@ def _wrap(a: np.ndarray) -> np.ndarray:
     return np.remainder(a + math.pi, 2 * math.pi) - math.pi
 
 
-def _grid(target: PoseTarget, side: int) -> np.ndarray:
-    """Circle points on a square grid around the poses (pose-1 world, complex)."""
+def _grid(target: PoseTarget, side: int, region: tuple[float, float, float, float] | None = None,
+          reach: float = 1.5) -> np.ndarray:
+    """Points on a square grid (complex): around the poses (± ``reach`` sizes), or over
+    ``region`` (xmin, ymin, xmax, ymax) clipped to ±5 sizes of them."""
     c = complex(*target.points.mean(axis=0))
-    h = 1.5 * target.size
-    u = np.linspace(-h, h, side)
-    return (c + u[None, :] + 1j * u[:, None]).reshape(-1)
+    h = reach * target.size
+    x0, y0, x1, y1 = c.real - h, c.imag - h, c.real + h, c.imag + h
+    if region is not None:
+        w = 5.0 * target.size
+        x0, y0 = max(region[0], c.real - w), max(region[1], c.imag - w)
+        x1, y1 = min(region[2], c.real + w), min(region[3], c.imag + w)
+        if not (x0 < x1 and y0 < y1):
+            return np.empty(0, dtype=complex)
+    u, v = np.linspace(x0, x1, side), np.linspace(y0, y1, side)
+    return (u[None, :] + 1j * v[:, None]).reshape(-1)
 
 
 def _dyads(target: PoseTarget, options: LinkageOptions) -> tuple[np.ndarray, np.ndarray]:
-    """Circle points and centre points to pair (at most MAX_DYADS, spread along their sets)."""
+    """Circle points and centre points to pair (at most MAX_DYADS, spread along their sets):
+    circle points on a grid and their centres, and centres on a grid (over the pivot region when
+    one is given) and their circle points."""
     n = len(target.points)
     size, centre = target.size, complex(*target.points.mean(axis=0))
+    region = options.pivot_region
     if n == 3:
-        m = _grid(target, GRID)
-        g = BM.circle_centres(target, m)
+        m1 = _grid(target, GRID)
+        g2 = _grid(target, GRID, region, 2.0)
+        m = np.concatenate([m1, BM.circle_points(target, g2)])
+        g = np.concatenate([BM.circle_centres(target, m1), g2])
     elif n == 4:
-        m, g, _ = BM.four_pose_dyads(target, 720)
+        m, g, _ = BM.four_pose_dyads(target, 3600 if region is None else 36000)
     else:
-        m = _grid(target, 2 * GRID)
-        g, _, res = BM.fit_centres(target, m)
+        m1 = _grid(target, 2 * GRID)
+        g1, _, r1 = BM.fit_centres(target, m1)
+        g2 = _grid(target, 2 * GRID, region, 2.0)
+        m2, _, r2 = BM.fit_circles(BM.inverse_positions(target, g2))   # circle points of grid centres
+        m, g, res = np.concatenate([m1, g2]), np.concatenate([g1, m2]), np.concatenate([r1, r2])
         keep = np.argsort(np.where(np.isfinite(res), res, np.inf))[: 4 * MAX_DYADS]
         m, g = m[keep], g[keep]
     r = np.abs(m - g)
-    ok = np.isfinite(g) & (r >= 0.02 * size) & (r <= options.max_size * size) & options.pivot_ok(g, centre, size)
+    ok = np.isfinite(g) & np.isfinite(m) & (r >= 0.02 * size) & (r <= options.max_size * size)
+    ok &= options.pivot_ok(g, centre, size)
     m, g = m[ok], g[ok]
     if len(m) > MAX_DYADS:
         pick = np.linspace(0, len(m) - 1, MAX_DYADS).round().astype(int)
@@ -161,8 +179,8 @@ def synthesize_motion(target: PoseTarget, options: LinkageOptions = LinkageOptio
                           "away); widen the pivot region or raise the size limit")
     x, sigma, theta = _pair_designs(target, m, g)
     report(progress, 0.2, f"screening {len(x)} dyad pairs")
-    ok = np.all(np.isfinite(x), axis=1) & (sigma != 0) & (np.abs(x[:, 5]) >= 0.02 * size)
-    ok &= np.abs((x[:, 0] - x[:, 2]) + 1j * (x[:, 1] - x[:, 3])) >= 0.02 * size
+    ok = np.all(np.isfinite(x), axis=1) & (sigma != 0) & (np.abs(x[:, 5]) >= 0.05 * size)
+    ok &= np.abs((x[:, 0] - x[:, 2]) + 1j * (x[:, 1] - x[:, 3])) >= 0.05 * size
     x, sigma, theta = x[ok], sigma[ok], theta[ok]
     pos, turn = _pose_errors(target, x, sigma, theta)
     notes = [f"{len(m)} dyads, {len(x)} pairs screened"]
@@ -182,7 +200,7 @@ def synthesize_motion(target: PoseTarget, options: LinkageOptions = LinkageOptio
     keep = direction != 0
     x, sigma, theta, direction, pos, turn = x[keep], sigma[keep], theta[keep], direction[keep], pos[keep], turn[keep]
     report(progress, 0.6, f"transmission angles of {len(x)} defect-free pairs")
-    mu, span_ok, full = _span_screen(x, sigma, theta, direction) if len(x) else (np.empty(0),) * 3
+    mu, span_ok, full = _span_screen(x, sigma, theta, direction) if len(x) else (np.empty(0), np.zeros(0, bool), np.zeros(0, bool))
     mu_deg = np.degrees(np.arcsin(np.clip(mu, 0.0, 1.0)))
     good = span_ok & (mu_deg >= options.min_transmission_deg)
     if options.full_turn:

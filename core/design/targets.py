@@ -174,6 +174,14 @@ def pose_target(poses: Sequence[Sequence[float]]) -> PoseTarget:
         raise DesignError("poses: every pose has its point at the same place, so the coupler only turns about "
                           "that point and every pivot of a four-bar would sit on it; move the poses apart")
     turns = np.abs(np.remainder(ang - ang[0] + math.pi, 2 * math.pi) - math.pi)
+    z = pts[:, 0] + 1j * pts[:, 1]
+    if np.all(turns[1:] > 1e-9):   # each pose is pose 1 turned about its pole: one pole for all?
+        rot = np.exp(1j * (ang[1:] - ang[0]))
+        poles = (z[1:] - rot * z[0]) / (1.0 - rot)
+        if np.all(np.abs(poles - poles[0]) <= 1e-9 * size):
+            raise DesignError(f"poses: every pose is the first turned about one point ({poles[0].real:g}, "
+                              f"{poles[0].imag:g}): a single pivot there guides the body and every dyad's centre "
+                              "lies on it, so no four-bar does; move a pose off that rotation")
     if np.all(turns <= 1e-9):
         d = (pts - pts[0]) / size
         u = d[np.argmax(np.hypot(d[:, 0], d[:, 1]))]
