@@ -182,5 +182,41 @@ def evaluate(topology: str, x: np.ndarray, theta: np.ndarray, sigma=1.0, grad: b
                       np.broadcast_to(out.d, full), np.broadcast_to(cpl.d, full), np.broadcast_to(sin_mu.d, full))
 
 
+def transform(topology: str, x: np.ndarray, s: complex | np.ndarray, t: complex | np.ndarray) -> np.ndarray:
+    """Designs ``x`` (D, K) moved by the similarity z → s·z + t (s complex: scale |s| and turn
+    arg s; scalars or (D,)): the moved design traces s·P + t at crank angle θ + arg s."""
+    x = np.array(x, dtype=float)
+    s = np.broadcast_to(np.asarray(s, dtype=complex), x.shape[:1])
+    t = np.broadcast_to(np.asarray(t, dtype=complex), x.shape[:1])
+    k, turn = np.abs(s), np.angle(s)
+    A = s * (x[:, 0] + 1j * x[:, 1]) + t
+    x[:, 0], x[:, 1] = A.real, A.imag
+    if topology == SLIDER_CRANK:
+        x[:, 2] += turn
+        x[:, 3:] *= k[:, None]
+    else:
+        G = s * (x[:, 2] + 1j * x[:, 3]) + t
+        x[:, 2], x[:, 3] = G.real, G.imag
+        x[:, 4:] *= k[:, None]
+    return x
+
+
+def mirror(topology: str, x: np.ndarray, sigma) -> tuple[np.ndarray, np.ndarray]:
+    """The mirror images of designs ``x`` (D, K) in the x axis and their modes: the mirrored
+    design traces conj(P) at crank angle −θ."""
+    x = np.array(x, dtype=float)
+    x[:, 1] = -x[:, 1]
+    x[:, -1] = -x[:, -1]
+    sig = np.asarray(sigma, dtype=float)
+    if topology == SLIDER_CRANK:
+        x[:, 2], x[:, 3] = -x[:, 2], -x[:, 3]
+        return x, sig
+    x[:, 3] = -x[:, 3]
+    if topology == INVERTED:
+        x[:, 5] = -x[:, 5]
+        return x, sig
+    return x, -sig
+
+
 __all__ = ["Evaluation", "FOURBAR", "INVERTED", "OUTPUT_UNIT", "PARAMS", "POSITIVE", "SLIDER_CRANK", "TOPOLOGIES",
-           "evaluate"]
+           "evaluate", "mirror", "transform"]

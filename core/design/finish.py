@@ -44,18 +44,28 @@ DISTINCT = 0.03
 Measure = Callable[[Plan, Design], tuple[float, str, "float | None", "float | None"]]
 
 
-def _signature(d: Design, size: float) -> np.ndarray:
-    """Where its pivots and pins are (world, mm / size): two designs this close are the same."""
+def _signature(d: Design, size: float) -> tuple[str, np.ndarray]:
+    """Its topology and where its pivots and pins are (world, mm / size): two designs this close
+    are the same."""
     ev = F.evaluate(d.topology, d.x[None], np.array([[d.inputs[0]]]), d.sigma)
     pts = [v[0, 0] for k, v in sorted(ev.joints.items()) if np.iscomplexobj(v) and k not in ("e", "u")]
-    return np.array([p for z in pts for p in (z.real, z.imag)]) / size
+    return d.topology, np.array([p for z in pts for p in (z.real, z.imag)]) / size
+
+
+def fixed_pivots(topology: str, x: np.ndarray) -> np.ndarray:
+    """(2,) or (1,) the design's pivots on the frame (complex mm)."""
+    if topology == F.SLIDER_CRANK:
+        return np.array([x[0] + 1j * x[1]])
+    return np.array([x[0] + 1j * x[1], x[2] + 1j * x[3]])
 
 
 def finish(designs: Iterable[Design], options: LinkageOptions, size: float, closed: bool, measure: Measure,
            output: bool = False, point: bool = True, progress: Progress | None = None,
-           limit: int = 200, fraction: tuple[float, float] = (0.8, 1.0)) -> tuple[list[Candidate], Counter]:
+           limit: int = 200, fraction: tuple[float, float] = (0.8, 1.0), centre: complex | None = None
+           ) -> tuple[list[Candidate], Counter]:
     """Checked candidates from ``designs`` (best first), at most ``options.candidates``; tries at
-    most ``limit`` designs. Returns the candidates and the refusals counted by reason."""
+    most ``limit`` designs. ``centre``: the target's centre, for the pivot guard (None: not
+    checked here). Returns the candidates and the refusals counted by reason."""
     out: list[Candidate] = []
     seen: list[np.ndarray] = []
     refused: Counter = Counter()
@@ -68,8 +78,11 @@ def finish(designs: Iterable[Design], options: LinkageOptions, size: float, clos
         report(progress, lo + (hi - lo) * n / max(len(designs), 1), f"checking design {n + 1} of {len(designs)}")
         watch = Stopwatch()
         sig = _signature(d, size)
-        if any(np.max(np.abs(sig - s)) < DISTINCT for s in seen):
+        if any(t == sig[0] and np.max(np.abs(sig[1] - s)) < DISTINCT for t, s in seen):
             refused["a near-duplicate of a better one"] += 1
+            continue
+        if centre is not None and not options.pivot_ok(fixed_pivots(d.topology, d.x), centre, size).all():
+            refused["a fixed pivot outside the pivot region or too far away"] += 1
             continue
         theta = span_inputs(d.inputs, d.direction, closed)
         if theta is None:
@@ -117,4 +130,4 @@ def refusal_text(refused: Counter) -> str:
     return "; ".join(f"{n} for {why}" for why, n in refused.most_common())
 
 
-__all__ = ["Design", "Measure", "finish", "refusal_text"]
+__all__ = ["Design", "Measure", "finish", "fixed_pivots", "refusal_text"]

@@ -47,8 +47,9 @@ def levenberg_marquardt(fun: Fun, x0: np.ndarray, iterations: int = 60, xtol: fl
         idx = np.flatnonzero(active)
         Ja, ra = J[idx], r[idx]
         Ja = np.where(np.isfinite(Ja), Ja, 0.0)
-        JtJ = np.einsum("dri,drj->dij", Ja, Ja)
-        g = np.einsum("dri,dr->di", Ja, ra)
+        Jt = Ja.transpose(0, 2, 1)
+        JtJ = Jt @ Ja
+        g = (Jt @ ra[..., None])[..., 0]
         diag = np.einsum("dii->di", JtJ)
         scale = np.maximum(diag, 1e-12 * (diag.max(axis=1, keepdims=True) + 1e-300))
         A = JtJ + lam[idx, None, None] * scale[:, :, None] * eye

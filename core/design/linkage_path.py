@@ -1,0 +1,184 @@
+"""Path synthesis: linkages whose coupler point ``P`` traces a target path.
+
+1. **Retrieve** starting designs from the atlas of each topology asked for and **align** them
+   to the target (:mod:`.path_starts`: nearest Fourier descriptors for a closed path, a window
+   scan for an open arc).
+2. **Refine** all starts at once by Levenberg–Marquardt (:mod:`.refine`) on the distance of
+   P(θ_k) from each target point, over the design's world parameters and the crank angle θ_k of
+   each point (untimed) or one start angle (timed: θ_k = θ_0 ± the given inputs), with the exact
+   derivatives of the closed form (:mod:`.families`, the input-angle column being the kernels'
+   velocity over ω); link lengths are bounded by the size guard and the transmission angle over
+   the span is held above the minimum by a penalty.
+3. **Filter and rank** (:func:`~.finish.finish`): by the RMS deviation; each candidate is built
+   and driven by the product's solver over the span (a whole turn for a closed path), and kept
+   only without a dead point or branch jump, in order, with its pivots where allowed, its
+   transmission angle above the minimum, of the asked Grashof type, and cuttable.
+
+``synthesize_path(target, options, topology, progress=...)`` returns a
+:class:`~.options.DesignResult`; it runs on any thread and reports progress and honours cancel
+through ``progress`` (see :class:`~.targets.Progress`).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..solver.plan import Plan
+from . import families as F
+from .atlas import load_atlas
+from .candidates import Stopwatch
+from .finish import Design, finish, refusal_text
+from .options import DesignResult, LinkageOptions
+from .path_starts import Start, closed_starts, open_starts
+from .refine import floor_penalty, levenberg_marquardt
+from .targets import DesignError, PathTarget, Progress, report
+
+TOPOLOGIES = (F.FOURBAR, F.SLIDER_CRANK, F.INVERTED)
+CHOICES = TOPOLOGIES + ("sixbar", "any")
+#: starts refined per topology
+STARTS = 40
+#: samples of the transmission-angle penalty over the span
+PENALTY_SAMPLES = 24
+
+
+def _unknowns(target: PathTarget, st: Start) -> np.ndarray:
+    if target.timed:
+        th0 = np.angle(np.mean(np.exp(1j * (st.theta - st.direction * target.inputs_rad))))
+        return np.concatenate([st.x, [th0]])
+    return np.concatenate([st.x, st.theta])
+
+
+def _thetas(target: PathTarget, u: np.ndarray, k: int, direction: np.ndarray) -> np.ndarray:
+    """(D, M) crank angles at the target points from the unknowns."""
+    if target.timed:
+        return u[:, k:k + 1] + direction[:, None] * target.inputs_rad[None, :]
+    return u[:, k:]
+
+
+def refine(topology: str, starts: list[Start], target: PathTarget, options: LinkageOptions,
+           stop=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Refined designs of the ``starts`` (all of one topology): (x (D, K), theta (D, M),
+    RMS deviation (D,) mm)."""
+    z = target.points[:, 0] + 1j * target.points[:, 1]
+    size = target.size
+    k = len(F.PARAMS[topology])
+    m = len(z)
+    sigma = np.array([s.sigma for s in starts])
+    direction = np.array([s.direction for s in starts])
+    u0 = np.stack([_unknowns(target, s) for s in starts])
+    U = u0.shape[1]
+    lower = np.full(U, -np.inf)
+    upper = np.full(U, np.inf)
+    for name in F.POSITIVE[topology]:
+        j = F.PARAMS[topology].index(name)
+        lower[j], upper[j] = 1e-3 * size, options.max_size * size
+    floor = math.sin(math.radians(min(options.min_transmission_deg + 3.0, 89.0)))
+    frac = np.linspace(0.0, 1.0, PENALTY_SAMPLES, endpoint=not target.closed)
+
+    def fun(u, rows):
+        th = _thetas(target, u, k, direction[rows])
+        if target.closed:
+            span = th[:, :1] + direction[rows, None] * 2 * math.pi * frac[None, :]
+        else:
+            span = th[:, :1] + (th[:, -1:] - th[:, :1]) * frac[None, :]
+        ev = F.evaluate(topology, u[:, :k], np.concatenate([th, span], axis=1), sigma[rows], grad=True)
+        d = (ev.P[:, :m] - z[None, :]) / size
+        dP = ev.dP[:, :m] / size
+        n = len(u)
+        J = np.zeros((n, 2 * m, U))
+        J[:, :m, :k], J[:, m:, :k] = dP[..., :k].real, dP[..., :k].imag
+        rp, Jp_full = floor_penalty(ev.sin_mu[:, m:], ev.dsin_mu[:, m:], floor, 0.1)
+        Jp = np.zeros((n, rp.shape[1], U))
+        Jp[:, :, :k] = Jp_full[..., :k]
+        if target.timed:
+            J[:, :m, k], J[:, m:, k] = dP[..., k].real, dP[..., k].imag
+            Jp[:, :, k] = Jp_full[..., k]
+        else:
+            ar = np.arange(m)
+            J[:, ar, k + ar] = dP[..., k].real
+            J[:, m + ar, k + ar] = dP[..., k].imag
+            Jp[:, :, k] += Jp_full[..., k] * (np.ones_like(frac) if target.closed else 1.0 - frac)[None, :]
+            if not target.closed:
+                Jp[:, :, U - 1] += Jp_full[..., k] * frac[None, :]
+        return (np.concatenate([d.real, d.imag, rp], axis=1), np.concatenate([J, Jp], axis=1))
+
+    u, _ = levenberg_marquardt(fun, u0, iterations=80, stop=stop, lower=lower, upper=upper)
+    th = _thetas(target, u, k, direction)
+    P = F.evaluate(topology, u[:, :k], th, sigma).P
+    rms = np.sqrt(np.mean(np.abs(P - z[None, :]) ** 2, axis=1))
+    return u[:, :k], th, np.where(np.isfinite(rms), rms, np.inf)
+
+
+def _topologies(topology: str) -> tuple[str, ...]:
+    if topology == "any":
+        return TOPOLOGIES
+    if topology == "sixbar":
+        raise DesignError("path synthesis of six-bars is not available in this version; use --topology fourbar, "
+                          "slider_crank, inverted_slider_crank or any")
+    if topology not in TOPOLOGIES:
+        raise DesignError(f"unknown topology {topology!r}; choose one of {', '.join(CHOICES)}")
+    return (topology,)
+
+
+def synthesize_path(target: PathTarget, options: LinkageOptions = LinkageOptions(), topology: str = "any",
+                    progress: Progress | None = None, atlas_designs: int | None = None) -> DesignResult:
+    """Linkages whose joint ``P`` (on link ``coupler``) traces the target (see the module
+    docstring). ``atlas_designs``: the atlas size to use (default: the installed one, built on
+    first use). Raises DesignError naming what to relax when nothing passes."""
+    options.check()
+    tops = _topologies(topology)
+    watch = Stopwatch()
+    z = target.points[:, 0] + 1j * target.points[:, 1]
+    size, centre = target.size, complex(z.mean())
+    ranked: list[tuple[float, Design]] = []
+    notes: list[str] = []
+    for n, top in enumerate(tops):
+        lo = n / len(tops)
+        atlas = load_atlas(top, atlas_designs, _sub(progress, lo * 0.3, (lo + 1 / len(tops)) * 0.3))
+        report(progress, 0.3 + 0.4 * lo, f"{top}: retrieving and aligning")
+        find = closed_starts if target.closed and not target.timed else open_starts
+        if target.closed and target.timed:
+            find = closed_starts
+        starts = find(atlas, target, STARTS, options.min_transmission_deg)
+        if not starts:
+            notes.append(f"{top}: no atlas design passes the transmission angle asked")
+            continue
+        report(progress, 0.3 + 0.4 * (lo + 0.5 / len(tops)), f"{top}: refining {len(starts)} designs")
+        t0 = watch.elapsed
+        x, th, rms = refine(top, starts, target, options, stop=lambda: report(progress, 0.5, f"{top}: refining"))
+        per = (watch.elapsed - t0) / len(starts)
+        for j, st in enumerate(starts):
+            if np.isfinite(rms[j]):
+                ranked.append((float(rms[j]), Design(top, x[j], st.sigma, st.direction, th[j], -float(rms[j]), per)))
+        notes.append(f"{top}: {len(atlas):,} designs in the atlas, {len(starts)} retrieved and refined, best RMS "
+                     f"{np.min(rms) / size:.2e} of the size")
+    ranked.sort(key=lambda r: r[0])
+
+    def measure(plan: Plan, d: Design):
+        sol = plan.evaluate(d.inputs, order=0, joints=["P"])
+        p = sol.position("P")
+        e = np.hypot(p[:, 0] - target.points[:, 0], p[:, 1] - target.points[:, 1])
+        return float(np.max(e)), "mm", None, float(np.sqrt(np.mean(e * e)))
+
+    found, refused = finish((d for _, d in ranked), options, size, target.closed, measure, progress=progress,
+                            fraction=(0.7, 1.0), centre=centre)
+    if not found:
+        raise DesignError("path: no defect-free linkage traces the target (" + "; ".join(notes)
+                          + (f"; refused: {refusal_text(refused)}" if refused else "")
+                          + "): lower the minimum transmission angle, widen the pivot region, allow another "
+                            "topology (--topology any) or simplify the path")
+    if refused:
+        notes.append(f"refused after building: {refusal_text(refused)}")
+    report(progress, 1.0, "done")
+    return DesignResult(found, watch.elapsed, notes)
+
+
+def _sub(progress: Progress | None, lo: float, hi: float) -> Progress | None:
+    """``progress`` mapped onto [lo, hi] (for a step inside a longer task)."""
+    if progress is None:
+        return None
+    return lambda f, msg: progress(lo + (hi - lo) * f, msg)
+
+
+__all__ = ["CHOICES", "TOPOLOGIES", "refine", "synthesize_path"]
