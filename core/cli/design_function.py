@@ -10,7 +10,7 @@ HELP = "a four-bar (input_deg,output_deg) or slider-crank (input_deg,output_mm) 
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    from .design_linkage import add_common
+    from .design_args import add_common
 
     p.add_argument("pairs", metavar="PAIRS.csv", help="columns input_deg,output_deg or input_deg,output_mm")
     p.add_argument("--topology", choices=("fourbar", "slider_crank"), default=None,

@@ -9,7 +9,7 @@ HELP = "four-bars whose coupler passes through 3 or more poses (x, y, angle_deg)
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    from .design_linkage import add_common
+    from .design_args import add_common
 
     p.add_argument("poses", metavar="POSES.csv", help="columns x,y,angle_deg (mm, mm, degrees)")
     add_common(p)

@@ -12,7 +12,7 @@ TOPOLOGIES = ("fourbar", "slider_crank", "inverted_slider_crank", "sixbar", "any
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    from .design_linkage import add_common
+    from .design_args import add_common
 
     p.add_argument("target", metavar="TARGET.csv", help="columns x,y (mm) [,input_deg]")
     p.add_argument("--topology", choices=TOPOLOGIES, default="any", help="default: any")

@@ -122,10 +122,12 @@ def _topologies(topology: str) -> tuple[str, ...]:
 
 
 def synthesize_path(target: PathTarget, options: LinkageOptions = LinkageOptions(), topology: str = "any",
-                    progress: Progress | None = None, atlas_designs: int | None = None) -> DesignResult:
+                    progress: Progress | None = None, atlas_designs: int | None = None,
+                    starts: int = STARTS) -> DesignResult:
     """Linkages whose joint ``P`` (on link ``coupler``) traces the target (see the module
     docstring). ``atlas_designs``: the atlas size to use (default: the installed one, built on
-    first use). Raises DesignError naming what to relax when nothing passes."""
+    first use); ``starts``: designs retrieved and refined per topology (the effort). Raises
+    DesignError naming what to relax when nothing passes."""
     options.check()
     tops = _topologies(topology)
     watch = Stopwatch()
@@ -140,18 +142,19 @@ def synthesize_path(target: PathTarget, options: LinkageOptions = LinkageOptions
         find = closed_starts if target.closed and not target.timed else open_starts
         if target.closed and target.timed:
             find = closed_starts
-        starts = find(atlas, target, STARTS, options.min_transmission_deg)
-        if not starts:
+        found_starts = find(atlas, target, starts, options.min_transmission_deg)
+        if not found_starts:
             notes.append(f"{top}: no atlas design passes the transmission angle asked")
             continue
-        report(progress, 0.3 + 0.4 * (lo + 0.5 / len(tops)), f"{top}: refining {len(starts)} designs")
+        report(progress, 0.3 + 0.4 * (lo + 0.5 / len(tops)), f"{top}: refining {len(found_starts)} designs")
         t0 = watch.elapsed
-        x, th, rms = refine(top, starts, target, options, stop=lambda: report(progress, 0.5, f"{top}: refining"))
-        per = (watch.elapsed - t0) / len(starts)
-        for j, st in enumerate(starts):
+        x, th, rms = refine(top, found_starts, target, options,
+                            stop=lambda: report(progress, 0.5, f"{top}: refining"))
+        per = (watch.elapsed - t0) / len(found_starts)
+        for j, st in enumerate(found_starts):
             if np.isfinite(rms[j]):
                 ranked.append((float(rms[j]), Design(top, x[j], st.sigma, st.direction, th[j], -float(rms[j]), per)))
-        notes.append(f"{top}: {len(atlas):,} designs in the atlas, {len(starts)} retrieved and refined, best RMS "
+        notes.append(f"{top}: {len(atlas):,} designs in the atlas, {len(found_starts)} retrieved and refined, best RMS "
                      f"{np.min(rms) / size:.2e} of the size")
     ranked.sort(key=lambda r: r[0])
 
