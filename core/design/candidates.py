@@ -188,16 +188,25 @@ def drive_check(linkage: Linkage, topology: str, x: np.ndarray, sigma: float, th
     if not mu >= min_mu_deg:
         return DriveCheck(False, f"transmission angle {mu:.1f}° < {min_mu_deg:g}° inside the span", plan, mu)
     full = bool(plan.evaluate(theta[0] + np.linspace(0.0, 2 * math.pi, 361), order=0).valid.all())
+    short = _too_close(linkage)
+    if short:
+        return DriveCheck(False, f"cannot be cut: {short}", plan, mu, full)
     if parts:
-        short = _too_close(linkage)
-        if short:
-            return DriveCheck(False, f"cannot be cut: {short}", plan, mu, full)
-        try:
-            opts = PartOptions()
-            require_checked(element_parts(linkage, opts, plan), min_web_of(linkage, opts))
-        except (GeometryError, ValueError) as exc:
-            return DriveCheck(False, f"cannot be cut: {exc}", plan, mu, full)
+        why = cut_check(linkage, plan)
+        if why:
+            return DriveCheck(False, why, plan, mu, full)
     return DriveCheck(True, "", plan, mu, full)
+
+
+def cut_check(linkage: Linkage, plan: Plan | None = None) -> str:
+    """Why the parts ``validate`` builds for ``linkage`` (default options) cannot be cut, or "":
+    the export's own part check (closed, valid outlines, the minimum web)."""
+    try:
+        opts = PartOptions()
+        require_checked(element_parts(linkage, opts, plan), min_web_of(linkage, opts))
+    except (GeometryError, ValueError) as exc:
+        return f"cannot be cut: {exc}"
+    return ""
 
 
 def _too_close(linkage: Linkage) -> str:
@@ -226,4 +235,5 @@ class Stopwatch:
         return time.perf_counter() - self.start
 
 
-__all__ = ["Candidate", "DriveCheck", "Stopwatch", "build_linkage", "drive_check", "kind_text", "span_inputs"]
+__all__ = ["Candidate", "DriveCheck", "Stopwatch", "build_linkage", "cut_check", "drive_check", "kind_text",
+           "span_inputs"]

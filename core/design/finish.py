@@ -10,14 +10,14 @@ message when nothing passes).
 from __future__ import annotations
 
 from collections import Counter
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Callable, Iterable
 
 import numpy as np
 
 from ..solver.plan import Plan
 from . import families as F
-from .candidates import Candidate, Stopwatch, build_linkage, drive_check, kind_text, span_inputs
+from .candidates import Candidate, Stopwatch, build_linkage, cut_check, drive_check, kind_text, span_inputs
 from .options import LinkageOptions
 from .targets import Progress, report
 
@@ -61,55 +61,94 @@ def fixed_pivots(topology: str, x: np.ndarray) -> np.ndarray:
 
 def finish(designs: Iterable[Design], options: LinkageOptions, size: float, closed: bool, measure: Measure,
            output: bool = False, point: bool = True, progress: Progress | None = None,
-           limit: int = 200, fraction: tuple[float, float] = (0.8, 1.0), centre: complex | None = None
-           ) -> tuple[list[Candidate], Counter]:
+           limit: int = 200, fraction: tuple[float, float] = (0.8, 1.0), centre: complex | None = None,
+           timings: dict | None = None) -> tuple[list[Candidate], Counter]:
     """Checked candidates from ``designs`` (best first), at most ``options.candidates``; tries at
     most ``limit`` designs. ``centre``: the target's centre, for the pivot guard (None: not
-    checked here). Returns the candidates and the refusals counted by reason."""
+    checked here). Designs are first driven by the solver (cheap) until K pass; then the parts
+    ``validate`` would cut are checked for those K (the expensive step), and the drive checks go
+    on for as many as failed. ``timings`` (if given) gets the seconds of both stages ("drive",
+    "cut"). Returns the candidates, renumbered ``prefix_1``.., and the refusals by reason."""
     out: list[Candidate] = []
-    seen: list[np.ndarray] = []
+    seen: list[tuple[str, np.ndarray]] = []
     refused: Counter = Counter()
     k = options.candidates
     designs = list(designs)[:limit]
     lo, hi = fraction
-    for n, d in enumerate(designs):
+    clock = {"drive": 0.0, "cut": 0.0} if timings is None else timings
+    clock.setdefault("drive", 0.0)
+    clock.setdefault("cut", 0.0)
+    todo = iter(enumerate(designs))
+    pending: list[tuple[Candidate, tuple[str, np.ndarray]]] = []
+    while True:
+        watch = Stopwatch()
+        for n, d in todo:
+            report(progress, lo + (hi - lo) * n / max(len(designs), 1), f"checking design {n + 1} of {len(designs)}")
+            got = _drive(d, options, size, closed, measure, output, point, centre, seen + [p[1] for p in pending],
+                         refused)
+            if got is not None:
+                pending.append(got)
+                if len(out) + len(pending) >= k:
+                    break
+        clock["drive"] += watch.elapsed
+        if not pending:
+            break
+        watch = Stopwatch()
+        for cand, sig in pending:
+            t0 = watch.elapsed
+            why = cut_check(cand.linkage)
+            cand.seconds += watch.elapsed - t0
+            if why:
+                refused[_reason(why)] += 1
+            else:
+                out.append(cand)
+                seen.append(sig)
+        clock["cut"] += watch.elapsed
+        pending = []
         if len(out) >= k:
             break
-        report(progress, lo + (hi - lo) * n / max(len(designs), 1), f"checking design {n + 1} of {len(designs)}")
-        watch = Stopwatch()
-        sig = _signature(d, size)
-        if any(t == sig[0] and np.max(np.abs(sig[1] - s)) < DISTINCT for t, s in seen):
-            refused["a near-duplicate of a better one"] += 1
-            continue
-        if centre is not None and not options.pivot_ok(fixed_pivots(d.topology, d.x), centre, size).all():
-            refused["a fixed pivot outside the pivot region or too far away"] += 1
-            continue
-        theta = span_inputs(d.inputs, d.direction, closed)
-        if theta is None:
-            refused["order defect (the targets are not met in order)"] += 1
-            continue
-        try:
-            lk = build_linkage(d.topology, d.x, d.sigma, float(d.inputs[0]), f"{options.prefix}_{len(out) + 1}",
-                               d.direction, output, point, options.speed_rpm, options.samples)
-        except ValueError as exc:   # GeometryError: not assembled at the drawn input
-            refused[str(exc)] += 1
-            continue
-        chk = drive_check(lk, d.topology, d.x, d.sigma, theta, options.min_transmission_deg, size)
-        if not chk.ok:
-            refused[_reason(chk.reason)] += 1
-            continue
-        if options.full_turn and not chk.full_turn:
-            refused["the crank does not turn fully"] += 1
-            continue
-        kind = kind_text(d.topology, d.x)
-        if options.grashof is not None and not kind.startswith(options.grashof):
-            refused[f"not a {options.grashof}"] += 1
-            continue
-        dev, unit, adev, rms = measure(chk.plan, d)
-        out.append(Candidate(lk, d.topology, d.x, d.sigma, d.direction, d.inputs, dev, unit,
-                             chk.min_transmission_deg, kind, chk.full_turn, d.seconds + watch.elapsed, adev, rms))
-        seen.append(sig)
+    for j, c in enumerate(out):
+        c.linkage = replace(c.linkage, id=f"{options.prefix}_{j + 1}")
     return out, refused
+
+
+def _drive(d: Design, options: LinkageOptions, size: float, closed: bool, measure: Measure, output: bool,
+           point: bool, centre: complex | None, seen: list, refused: Counter):
+    """(candidate, signature) of design ``d`` if it passes every check but the cut, else None
+    (the reason counted in ``refused``)."""
+    watch = Stopwatch()
+    sig = _signature(d, size)
+    if any(t == sig[0] and np.max(np.abs(sig[1] - s)) < DISTINCT for t, s in seen):
+        refused["a near-duplicate of a better one"] += 1
+        return None
+    if centre is not None and not options.pivot_ok(fixed_pivots(d.topology, d.x), centre, size).all():
+        refused["a fixed pivot outside the pivot region or too far away"] += 1
+        return None
+    theta = span_inputs(d.inputs, d.direction, closed)
+    if theta is None:
+        refused["order defect (the targets are not met in order)"] += 1
+        return None
+    try:
+        lk = build_linkage(d.topology, d.x, d.sigma, float(d.inputs[0]), options.prefix, d.direction, output, point,
+                           options.speed_rpm, options.samples)
+    except ValueError as exc:   # GeometryError: not assembled at the drawn input
+        refused[str(exc)] += 1
+        return None
+    chk = drive_check(lk, d.topology, d.x, d.sigma, theta, options.min_transmission_deg, size, parts=False)
+    if not chk.ok:
+        refused[_reason(chk.reason)] += 1
+        return None
+    if options.full_turn and not chk.full_turn:
+        refused["the crank does not turn fully"] += 1
+        return None
+    kind = kind_text(d.topology, d.x)
+    if options.grashof is not None and not kind.startswith(options.grashof):
+        refused[f"not a {options.grashof}"] += 1
+        return None
+    dev, unit, adev, rms = measure(chk.plan, d)
+    cand = Candidate(lk, d.topology, d.x, d.sigma, d.direction, d.inputs, dev, unit, chk.min_transmission_deg, kind,
+                     chk.full_turn, d.seconds + watch.elapsed, adev, rms)
+    return cand, sig
 
 
 def _reason(text: str) -> str:

@@ -39,7 +39,11 @@ CHOICES = TOPOLOGIES + ("sixbar", "any")
 #: starts refined per topology
 STARTS = 40
 #: samples of the transmission-angle penalty over the span
-PENALTY_SAMPLES = 24
+PENALTY_SAMPLES = 72
+#: weight of the transmission-angle penalty (per unit of sin μ below the floor, per sample)
+MU_WEIGHT = 2.0
+#: weight of the order penalty (per radian of a step against the crank's direction)
+ORDER_WEIGHT = 0.1
 
 
 def _unknowns(target: PathTarget, st: Start) -> np.ndarray:
@@ -74,11 +78,12 @@ def refine(topology: str, starts: list[Start], target: PathTarget, options: Link
         j = F.PARAMS[topology].index(name)
         lower[j], upper[j] = 1e-3 * size, options.max_size * size
     floor = math.sin(math.radians(min(options.min_transmission_deg + 3.0, 89.0)))
-    frac = np.linspace(0.0, 1.0, PENALTY_SAMPLES, endpoint=not target.closed)
+    whole = target.closed or options.full_turn       # the penalty watches the whole turn, else the span
+    frac = np.linspace(0.0, 1.0, PENALTY_SAMPLES, endpoint=not whole)
 
     def fun(u, rows):
         th = _thetas(target, u, k, direction[rows])
-        if target.closed:
+        if whole:
             span = th[:, :1] + direction[rows, None] * 2 * math.pi * frac[None, :]
         else:
             span = th[:, :1] + (th[:, -1:] - th[:, :1]) * frac[None, :]
@@ -88,7 +93,7 @@ def refine(topology: str, starts: list[Start], target: PathTarget, options: Link
         n = len(u)
         J = np.zeros((n, 2 * m, U))
         J[:, :m, :k], J[:, m:, :k] = dP[..., :k].real, dP[..., :k].imag
-        rp, Jp_full = floor_penalty(ev.sin_mu[:, m:], ev.dsin_mu[:, m:], floor, 0.1)
+        rp, Jp_full = floor_penalty(ev.sin_mu[:, m:], ev.dsin_mu[:, m:], floor, MU_WEIGHT)
         Jp = np.zeros((n, rp.shape[1], U))
         Jp[:, :, :k] = Jp_full[..., :k]
         if target.timed:
@@ -98,10 +103,20 @@ def refine(topology: str, starts: list[Start], target: PathTarget, options: Link
             ar = np.arange(m)
             J[:, ar, k + ar] = dP[..., k].real
             J[:, m + ar, k + ar] = dP[..., k].imag
-            Jp[:, :, k] += Jp_full[..., k] * (np.ones_like(frac) if target.closed else 1.0 - frac)[None, :]
-            if not target.closed:
+            Jp[:, :, k] += Jp_full[..., k] * (np.ones_like(frac) if whole else 1.0 - frac)[None, :]
+            if not whole:
                 Jp[:, :, U - 1] += Jp_full[..., k] * frac[None, :]
-        return (np.concatenate([d.real, d.imag, rp], axis=1), np.concatenate([J, Jp], axis=1))
+        if target.timed:
+            return (np.concatenate([d.real, d.imag, rp], axis=1), np.concatenate([J, Jp], axis=1))
+        # the points in order: a penalty on each step of the crank against its direction
+        back = -direction[rows, None] * np.diff(th, axis=1)
+        act = back > 0.0
+        ro = np.where(act, ORDER_WEIGHT * back, 0.0)
+        Jo = np.zeros((n, m - 1, U))
+        ar = np.arange(m - 1)
+        Jo[:, ar, k + ar] = np.where(act, ORDER_WEIGHT * direction[rows, None], 0.0)
+        Jo[:, ar, k + ar + 1] = np.where(act, -ORDER_WEIGHT * direction[rows, None], 0.0)
+        return (np.concatenate([d.real, d.imag, rp, ro], axis=1), np.concatenate([J, Jp, Jo], axis=1))
 
     u, _ = levenberg_marquardt(fun, u0, iterations=80, stop=stop, lower=lower, upper=upper)
     th = _thetas(target, u, k, direction)
@@ -135,21 +150,26 @@ def synthesize_path(target: PathTarget, options: LinkageOptions = LinkageOptions
     size, centre = target.size, complex(z.mean())
     ranked: list[tuple[float, Design]] = []
     notes: list[str] = []
+    timings = {"atlas": 0.0, "retrieve": 0.0, "refine": 0.0}
     for n, top in enumerate(tops):
         lo = n / len(tops)
+        t0 = watch.elapsed
         atlas = load_atlas(top, atlas_designs, _sub(progress, lo * 0.3, (lo + 1 / len(tops)) * 0.3))
+        atlas.tree()
+        timings["atlas"] += watch.elapsed - t0
         report(progress, 0.3 + 0.4 * lo, f"{top}: retrieving and aligning")
-        find = closed_starts if target.closed and not target.timed else open_starts
-        if target.closed and target.timed:
-            find = closed_starts
+        t0 = watch.elapsed
+        find = closed_starts if target.closed else open_starts
         found_starts = find(atlas, target, starts, options.min_transmission_deg)
+        timings["retrieve"] += watch.elapsed - t0
         if not found_starts:
             notes.append(f"{top}: no atlas design passes the transmission angle asked")
             continue
         report(progress, 0.3 + 0.4 * (lo + 0.5 / len(tops)), f"{top}: refining {len(found_starts)} designs")
         t0 = watch.elapsed
         x, th, rms = refine(top, found_starts, target, options,
-                            stop=lambda: report(progress, 0.5, f"{top}: refining"))
+                            stop=lambda: report(progress, 0.3 + 0.4 * (lo + 0.5 / len(tops)), f"{top}: refining"))
+        timings["refine"] += watch.elapsed - t0
         per = (watch.elapsed - t0) / len(found_starts)
         for j, st in enumerate(found_starts):
             if np.isfinite(rms[j]):
@@ -165,7 +185,7 @@ def synthesize_path(target: PathTarget, options: LinkageOptions = LinkageOptions
         return float(np.max(e)), "mm", None, float(np.sqrt(np.mean(e * e)))
 
     found, refused = finish((d for _, d in ranked), options, size, target.closed, measure, progress=progress,
-                            fraction=(0.7, 1.0), centre=centre)
+                            fraction=(0.7, 1.0), centre=centre, timings=timings)
     if not found:
         raise DesignError("path: no defect-free linkage traces the target (" + "; ".join(notes)
                           + (f"; refused: {refusal_text(refused)}" if refused else "")
@@ -174,7 +194,7 @@ def synthesize_path(target: PathTarget, options: LinkageOptions = LinkageOptions
     if refused:
         notes.append(f"refused after building: {refusal_text(refused)}")
     report(progress, 1.0, "done")
-    return DesignResult(found, watch.elapsed, notes)
+    return DesignResult(found, watch.elapsed, notes, timings)
 
 
 def _sub(progress: Progress | None, lo: float, hi: float) -> Progress | None:

@@ -66,12 +66,14 @@ class LinkageOptions:
 
 @dataclass
 class DesignResult:
-    """The candidates, best first, the total time (s) and notes on the search (what was tried,
-    why there are fewer than asked)."""
+    """The candidates, best first, the total time (s), notes on the search (what was tried,
+    why there are fewer than asked) and the seconds of each stage (``timings``: e.g. "atlas",
+    "retrieve", "refine", "drive" — the solver's checks —, "cut" — validate's part check)."""
 
     candidates: list[Candidate]
     seconds: float
     notes: list[str] = field(default_factory=list)
+    timings: dict = field(default_factory=dict)
 
     def lines(self) -> list[str]:
         """One line per candidate (rank, deviation, transmission angle, type, time)."""

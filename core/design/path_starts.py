@@ -74,8 +74,10 @@ def _design(atlas: Atlas, row: int, mirrored: bool) -> tuple[np.ndarray, float]:
 
 def _world(topology: str, x: np.ndarray, sigma: float, theta: np.ndarray, s: complex, t: complex,
            direction: float, fit: float) -> Start:
+    """The start in the world frame, its crank angles unwrapped from the first in ``direction``."""
     xw = F.transform(topology, x[None], s, t)[0]
-    return Start(topology, xw, sigma, direction, theta + math.atan2(s.imag, s.real), fit)
+    th = theta[0] + direction * np.remainder(direction * (theta - theta[0]), 2 * math.pi)
+    return Start(topology, xw, sigma, direction, th + math.atan2(s.imag, s.real), fit)
 
 
 def closed_starts(atlas: Atlas, target: PathTarget, count: int, min_mu_deg: float) -> list[Start]:

@@ -82,9 +82,10 @@ def levenberg_marquardt(fun: Fun, x0: np.ndarray, iterations: int = 60, xtol: fl
 
 def floor_penalty(v: np.ndarray, dv: np.ndarray, floor: float, weight: float) -> tuple[np.ndarray, np.ndarray]:
     """A residual that is 0 while ``v`` (D, S) ≥ ``floor`` and grows as ``weight``·(floor − v)
-    below it, with its Jacobian from ``dv`` (D, S, U): a soft lower bound (e.g. on sin μ)."""
-    short = np.where(np.isfinite(v), floor - v, 1.0)
-    act = short > 0.0
+    below it, with its Jacobian from ``dv`` (D, S, U): a soft lower bound (e.g. on sin μ). Where
+    ``v`` is NaN (not assembled) the residual is NaN, so a step that goes there is refused."""
+    short = floor - v
+    act = ~(short <= 0.0)
     r = np.where(act, weight * short, 0.0)
     J = np.where(act[..., None], -weight * np.where(np.isfinite(dv), dv, 0.0), 0.0)
     return r, J
