@@ -24,6 +24,7 @@ from . import families as F
 from . import freudenstein as FR
 from .candidates import Stopwatch
 from .finish import Design, finish, refusal_text
+from .function_atlas import atlas_starts
 from .options import DesignResult, LinkageOptions
 from .refine import floor_penalty, levenberg_marquardt
 from .targets import DesignError, FunctionTarget, Progress, report
@@ -120,10 +121,12 @@ def _screen(topology: str, x, sigma, theta, direction: float):
 
 def synthesize_function(target: FunctionTarget, options: LinkageOptions = LinkageOptions(),
                         topology: str = F.FOURBAR, size: float | None = None,
-                        progress: Progress | None = None) -> DesignResult:
+                        progress: Progress | None = None, atlas: bool = True,
+                        atlas_designs: int | None = None) -> DesignResult:
     """Linkages whose output link ``output`` follows the target (see the module docstring).
     ``topology``: "fourbar" (output in degrees) or "slider_crank" (output in mm); ``size``: the
-    four-bar's ground length, mm (default 100; a slider-crank's scale is the output's)."""
+    four-bar's ground length, mm (default 100; a slider-crank's scale is the output's);
+    ``atlas``: with more than 3 pairs, add starting designs from the atlas (built on first use)."""
     options.check()
     if topology not in (F.FOURBAR, F.SLIDER_CRANK):
         raise DesignError(f"function synthesis makes a fourbar or a slider_crank, not {topology!r}")
@@ -147,6 +150,13 @@ def synthesize_function(target: FunctionTarget, options: LinkageOptions = Linkag
     if n > 3:
         best = np.argsort(err)[:256]
         x, sigma, theta = x[best], sigma[best], theta[best]
+        if atlas:
+            report(progress, 0.1, "atlas designs with a similar output")
+            xa, sa, ta = atlas_starts(target, topology, scale, designs=atlas_designs,
+                                      progress=lambda f, m: progress(0.1 + 0.2 * f, m) if progress else None)
+            if len(xa):
+                x, sigma, theta = np.concatenate([x, xa]), np.concatenate([sigma, sa]), np.concatenate([theta, ta])
+                notes.append(f"{len(xa)} starting designs from the {topology} atlas")
         report(progress, 0.3, f"least squares on {len(x)} designs")
         x, theta = _refine(target, topology, x, sigma, theta, scale, options, lambda: report(progress, 0.5, "least squares"))
         err = _errors(target, topology, x, sigma, theta)
