@@ -159,6 +159,10 @@ def run(args: argparse.Namespace) -> int:
         for prob in problems:
             print(prob)
         if not problems:
+            from .linkage_cmds import kinematic_warnings   # the solver's findings: warnings, exit 0
+
+            for warning in kinematic_warnings(ws):
+                print(warning)
             print(f"{args.scene}: ok")
         return 0 if not problems else 1
     samples = getattr(args, "samples", None)   # analyze, centrodes: one check for both

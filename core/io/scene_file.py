@@ -43,8 +43,15 @@ def _v1_to_v2(doc: dict) -> dict:
     return out
 
 
+def _v2_to_v3(doc: dict) -> dict:
+    """Version 2 -> 3: the identity but for the number. Version 3 adds optional content only (a
+    linkage's ``drawing`` block of plate sizes; new element types), so a version 2 document is
+    already a valid version 3 one."""
+    return {**doc, "schema_version": 3}
+
+
 #: migrations: version v -> function turning a v document into a v+1 document
-MIGRATIONS: dict[int, Callable[[dict], dict]] = {1: _v1_to_v2}
+MIGRATIONS: dict[int, Callable[[dict], dict]] = {1: _v1_to_v2, 2: _v2_to_v3}
 
 
 @functools.lru_cache(maxsize=None)

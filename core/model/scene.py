@@ -13,8 +13,10 @@ from ..errors import UnknownIdError
 
 FORMAT = "mechsketch.scene"
 #: 2: a linkage's driver states its ``kind`` (crank, cylinder, slider) and may carry a stroke and
-#: a motion law; version 1 files are migrated on reading (core/io/scene_file.py)
-SCHEMA_VERSION = 2
+#: a motion law; version 1 files are migrated on reading (core/io/scene_file.py).
+#: 3: a linkage may carry an optional ``drawing`` block (plate sizes for its cut-ready parts);
+#: every version 2 file is a version 3 file (the migration only changes the number)
+SCHEMA_VERSION = 3
 
 
 class Element(Protocol):
