@@ -142,3 +142,19 @@ def test_path_refusals(atlas_cache):
         synthesize_path(path_target(_reachable("fourbar")), topology="sixbar")
     with pytest.raises(DesignError, match="lower the minimum transmission angle"):
         synthesize_path(path_target(_reachable("fourbar")), LinkageOptions(min_transmission_deg=89.9), "fourbar")
+
+
+def test_cancel_from_the_progress_callback(atlas_cache):
+    from mechsketch.core.design.targets import Cancelled
+
+    calls = []
+
+    def progress(fraction, message):
+        calls.append((fraction, message))
+        return "refining" in message          # cancel once the refinement starts
+
+    with pytest.raises(Cancelled):
+        synthesize_path(path_target(_reachable("fourbar")), LinkageOptions(candidates=2), "fourbar", progress,
+                        starts=8)
+    assert any("refining" in m for _, m in calls)
+    assert all(0.0 <= f <= 1.0 for f, _ in calls)
