@@ -64,7 +64,7 @@ def _draw(topology: str, start: int, count: int, seed: int) -> tuple[np.ndarray,
         cols.append(np.exp(math.log(lo) + u[:, k] * math.log(hi / lo)) if lg else lo + u[:, k] * (hi - lo))
     shape = np.stack(cols, axis=1)
     pu = u[:, len(spec.names):].reshape(count, POINTS, 2)
-    unit = shape[:, spec.names.index("b")][:, None] if spec.point_unit == "b" else 1.0
+    unit = shape[:, spec.names.index("b")][:, None] if spec.point_unit == "b" else 1.0   # "l1": set later
     px = (spec.u[0] + pu[..., 0] * (spec.u[1] - spec.u[0])) * unit
     py = (spec.v[0] + pu[..., 1] * (spec.v[1] - spec.v[0])) * unit
     return shape, np.stack([px, py], axis=-1)
@@ -75,7 +75,7 @@ def screen(topology: str, shape: np.ndarray, min_mu_deg: float = MIN_MU_DEG) -> 
     in closed form (the batch solve confirms it)."""
     s = math.sin(math.radians(min_mu_deg))
     with np.errstate(invalid="ignore"):
-        if topology == F.FOURBAR:
+        if topology in (F.FOURBAR, F.SIXBAR):
             a, b, c = shape[:, 0], shape[:, 1], shape[:, 2]
             L = np.sort(np.stack([a, b, c, np.ones_like(a)], axis=1), axis=1)
             grashof = L[:, 0] + L[:, 3] < L[:, 1] + L[:, 2]
@@ -97,6 +97,32 @@ def screen(topology: str, shape: np.ndarray, min_mu_deg: float = MIN_MU_DEG) -> 
 Solver = Callable[[str, np.ndarray, np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]]
 
 
+def sixbar_lengths(shape: np.ndarray, points: np.ndarray, min_mu_deg: float = MIN_MU_DEG
+                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Drawn six-bars (a, b, c, E in units of b, F, l2/l1, l1's place 0..1) made concrete:
+    l1 is chosen where the dyad E–G–F keeps its transmission angle above the minimum at every
+    distance |E − F| over the turn (from the law of cosines: d² = l1²(1 + r² − 2r·cos μ)), and
+    the coupler points scaled by l1. Returns (shape (n, 9), points, kept (n,) bool)."""
+    shape = shape.copy()
+    shape[:, 3] *= shape[:, 1]
+    shape[:, 4] *= shape[:, 1]
+    th = 2 * math.pi * np.arange(48) / 48
+    four = np.stack([np.zeros(len(shape)), np.zeros(len(shape)), np.ones(len(shape)), np.zeros(len(shape)),
+                     shape[:, 0], shape[:, 1], shape[:, 2], shape[:, 3], shape[:, 4]], axis=1)
+    ev = F.evaluate(F.FOURBAR, four, th[None, :], 1.0)
+    d = np.abs(ev.P - (shape[:, 5] + 1j * shape[:, 6])[:, None])
+    dmin, dmax = d.min(axis=1), d.max(axis=1)
+    r = shape[:, 7]
+    cm = math.cos(math.radians(min_mu_deg + 2.0))
+    lo_q, hi_q = 1 + r * r - 2 * r * cm, 1 + r * r + 2 * r * cm
+    with np.errstate(invalid="ignore", divide="ignore"):
+        lo, hi = dmax / np.sqrt(hi_q), dmin / np.sqrt(lo_q)
+    ok = ev.ok.all(axis=1) & (lo < hi) & (dmin > 0)
+    l1 = np.where(ok, lo * (hi / np.where(ok, lo, 1.0)) ** shape[:, 8], np.nan)
+    shape[:, 7], shape[:, 8] = l1, r * l1
+    return shape, points * l1[:, None, None], ok
+
+
 def closed_form_solver(topology: str, shape: np.ndarray, points: np.ndarray, theta: np.ndarray):
     """The closed form of :mod:`.families` (tested equal to the product's solver to 1e-12): one
     evaluation per design, every coupler point carried by the coupler it gives."""
@@ -104,6 +130,9 @@ def closed_form_solver(topology: str, shape: np.ndarray, points: np.ndarray, the
     B = ev.joints["B"]
     if topology == F.INVERTED:
         frame = ev.joints["u"]
+    elif topology == F.SIXBAR:
+        B = ev.joints["E"]
+        frame = (ev.joints["G"] - B) / shape[:, 7][:, None]
     else:
         frame = (ev.joints["C"] - B) / shape[:, SPECS[topology].names.index("b")][:, None]
     p = points[..., 0] + 1j * points[..., 1]
@@ -119,6 +148,9 @@ def solve_chunk(topology: str, index: int, seed: int = 0, chunk: int = CHUNK, mi
     shape, points = _draw(topology, index * chunk, chunk, seed)
     keep = screen(topology, shape, min_mu_deg)
     shape, points = shape[keep], points[keep]
+    if topology == F.SIXBAR:
+        shape, points, keep = sixbar_lengths(shape, points, min_mu_deg)
+        shape, points = shape[keep], points[keep]
     theta = 2 * math.pi * np.arange(SAMPLES) / SAMPLES
     curves, out, sin_mu, good = solve(topology, shape, points, theta)
     ok = good.all(axis=1) & np.isfinite(curves).all(axis=(1, 2))
@@ -218,4 +250,4 @@ def forget_loaded() -> None:
 
 
 __all__ = ["CHUNK", "Chunk", "build_atlas", "closed_form_solver", "forget_loaded", "load_atlas", "screen",
-           "solve_chunk"]
+           "sixbar_lengths", "solve_chunk"]

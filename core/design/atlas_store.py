@@ -58,6 +58,12 @@ SPECS: dict[str, Spec] = {
                     (-1.0, 2.0), (-1.5, 1.5), "b"),
     F.SLIDER_CRANK: Spec(("h", "b"), ((-2.5, 2.5), (1.05, 8.0)), (False, True), (-0.5, 1.5), (-1.0, 1.0), "b"),
     F.INVERTED: Spec(("a", "e"), ((0.1, 5.0), (-1.0, 1.0)), (True, False), (-2.0, 2.0), (-1.0, 1.0), "1"),
+    # drawn as a, b, c, E (units of b), F, l2/l1 and where l1 falls in its feasible range (0..1):
+    # :func:`~.atlas.sixbar_lengths` turns them into a, b, c, ex, ey, Fx, Fy, l1, l2
+    F.SIXBAR: Spec(("a", "b", "c", "ex", "ey", "Fx", "Fy", "l1", "l2"),
+                   ((0.12, 1.0), (0.3, 3.0), (0.3, 3.0), (-0.5, 1.5), (-1.0, 1.0), (-1.5, 2.5), (-2.0, 2.0),
+                    (0.3, 3.0), (0.0, 1.0)),
+                   (True, True, True, False, False, False, False, True, False), (-0.5, 1.5), (-1.0, 1.0), "l1"),
 }
 
 
@@ -71,6 +77,8 @@ def family_params(topology: str, shape: np.ndarray, points: np.ndarray) -> np.nd
         return np.stack([z, z, one, z, shape[:, 0], shape[:, 1], shape[:, 2], px, py], axis=1)
     if topology == F.SLIDER_CRANK:
         return np.stack([z, z, z, shape[:, 0], one, shape[:, 1], px, py], axis=1)
+    if topology == F.SIXBAR:
+        return np.concatenate([np.stack([z, z, one, z], axis=1), shape, np.stack([px, py], axis=1)], axis=1)
     return np.stack([z, z, one, z, shape[:, 0], shape[:, 1], px, py], axis=1)
 
 

@@ -38,7 +38,7 @@ def resample_closed(z: np.ndarray, samples: int = ARC_SAMPLES, compiled: bool = 
     (the atlas build: a million rows): a numba-compiled loop (:func:`_resample_compiled`); the
     numpy form is the reference (:func:`resample_closed_numpy`, tested equal)."""
     z = np.asarray(z, dtype=complex)
-    if compiled and z.ndim > 1 and z.size // z.shape[-1] >= 20_000:   # numba pays for its start-up
+    if compiled and z.ndim > 1 and z.size // z.shape[-1] >= 4096:   # numba pays for its start-up
         fn = _resample_compiled()
         if fn is not None:
             flat = np.ascontiguousarray(z.reshape(-1, z.shape[-1]))

@@ -13,9 +13,15 @@ A design is a parameter vector in the world frame (mm, rad), one row per design:
 ``inverted_slider_crank``  Ax Ay Gx Gy a e px py — crank pivot A, rocker pivot G; the crank pin
                            B slides in a guide of the rocker at offset e from G (u: the guide's
                            direction); the block carries P = B + (px + i·py)·u
+``sixbar``                 Ax Ay Dx Dy a b c ex ey Fx Fy l1 l2 px py — a Stephenson III six-bar:
+                           the four-bar A B C D with a point E = B + (ex + i·ey)·(C − B)/b on its
+                           connector, and a dyad E–G (l1), F–G (l2) to the frame pivot F; the
+                           path point P = E + (px + i·py)·(G − E)/l1 on the link E G
 =========================  =====================================================================
 
-plus an assembly mode σ = ±1 per design (which of the two closures). The crank angle θ (rad,
+plus an assembly mode σ = ±1 per design (which of the two closures); the six-bar's code
+σ ∈ {±1, ±2} gives both of its groups' modes: σ1 = sign σ, σ2 = σ1 when |σ| = 1, else −σ1 (so
+that −σ is the mirror image's). The crank angle θ (rad,
 world frame, of A→B) is per sample. :func:`evaluate` gives the coupler point P (complex, mm),
 the output (a rocker's angle, rad; a slider's position along its line, mm), the sine of the
 transmission angle, and, with ``grad``, ∂P/∂(parameters, θ) and ∂output/∂(...) from
@@ -32,17 +38,19 @@ import numpy as np
 
 from .dual import Dual
 
-FOURBAR, SLIDER_CRANK, INVERTED = "fourbar", "slider_crank", "inverted_slider_crank"
+FOURBAR, SLIDER_CRANK, INVERTED, SIXBAR = "fourbar", "slider_crank", "inverted_slider_crank", "sixbar"
 
 PARAMS: dict[str, tuple[str, ...]] = {
     FOURBAR: ("Ax", "Ay", "Dx", "Dy", "a", "b", "c", "px", "py"),
     SLIDER_CRANK: ("Ax", "Ay", "g", "h", "a", "b", "px", "py"),
     INVERTED: ("Ax", "Ay", "Gx", "Gy", "a", "e", "px", "py"),
+    SIXBAR: ("Ax", "Ay", "Dx", "Dy", "a", "b", "c", "ex", "ey", "Fx", "Fy", "l1", "l2", "px", "py"),
 }
 #: parameters that are lengths which must stay positive
-POSITIVE: dict[str, tuple[str, ...]] = {FOURBAR: ("a", "b", "c"), SLIDER_CRANK: ("a", "b"), INVERTED: ("a",)}
+POSITIVE: dict[str, tuple[str, ...]] = {FOURBAR: ("a", "b", "c"), SLIDER_CRANK: ("a", "b"), INVERTED: ("a",),
+                                        SIXBAR: ("a", "b", "c", "l1", "l2")}
 #: the output's unit per topology (rocker angle or slider position)
-OUTPUT_UNIT = {FOURBAR: "rad", SLIDER_CRANK: "mm", INVERTED: "rad"}
+OUTPUT_UNIT = {FOURBAR: "rad", SLIDER_CRANK: "mm", INVERTED: "rad", SIXBAR: "rad"}
 TOPOLOGIES = tuple(PARAMS)
 
 
@@ -150,7 +158,37 @@ def _inverted(p: list, th, sigma: np.ndarray) -> tuple:
     return P, out, out, sin_mu, {"A": _val(A), "B": _val(B), "G": _val(G), "u": _val(u)}
 
 
-_EVAL = {FOURBAR: _fourbar, SLIDER_CRANK: _slider_crank, INVERTED: _inverted}
+def _rrr(M, H, li, lj, sigma):
+    """The inner joint of an RRR dyad on outer joints M, H with link lengths li (from M), lj."""
+    d = H - M
+    L2 = _abs2(d)
+    x = (li * li - lj * lj + L2) / (2.0 * L2)
+    h = _sqrt(li * li / L2 - x * x)
+    return M + d * (x + 1j * sigma * h)
+
+
+def _sixbar(p: list, th, sigma: np.ndarray) -> tuple:
+    ax, ay, dx, dy, a, b, c, ex, ey, fx, fy, l1, l2, px, py = p
+    s1 = np.sign(sigma)
+    s2 = np.where(np.abs(sigma) < 1.5, s1, -s1)
+    A, D, Fp = ax + 1j * ay, dx + 1j * dy, fx + 1j * fy
+    B = A + a * _expi(th)
+    C = _rrr(B, D, b, c, s1)
+    E = B + (ex + 1j * ey) * (C - B) / b
+    G = _rrr(E, Fp, l1, l2, s2)
+    P = E + (px + 1j * py) * (G - E) / l1
+    mu1 = _abs(_im(_conj(C - B) * (C - D)) / (b * c))
+    mu2 = _abs(_im(_conj(G - E) * (G - Fp)) / (l1 * l2))
+    if isinstance(mu1, Dual):
+        take = _val(mu1) <= _val(mu2)
+        sin_mu = Dual(np.where(take, mu1.v, mu2.v), np.where(take[..., None], mu1.d, mu2.d))
+    else:
+        sin_mu = np.minimum(mu1, mu2)
+    joints = {"A": _val(A), "B": _val(B), "C": _val(C), "D": _val(D), "E": _val(E), "F": _val(Fp), "G": _val(G)}
+    return P, _angle(G - Fp), _angle(G - E), sin_mu, joints
+
+
+_EVAL = {FOURBAR: _fourbar, SLIDER_CRANK: _slider_crank, INVERTED: _inverted, SIXBAR: _sixbar}
 
 
 def evaluate(topology: str, x: np.ndarray, theta: np.ndarray, sigma=1.0, grad: bool = False) -> Evaluation:
@@ -194,6 +232,12 @@ def transform(topology: str, x: np.ndarray, s: complex | np.ndarray, t: complex 
     if topology == SLIDER_CRANK:
         x[:, 2] += turn
         x[:, 3:] *= k[:, None]
+    elif topology == SIXBAR:
+        for i in (2, 9):
+            Z = s * (x[:, i] + 1j * x[:, i + 1]) + t
+            x[:, i], x[:, i + 1] = Z.real, Z.imag
+        for i in (4, 5, 6, 7, 8, 11, 12, 13, 14):
+            x[:, i] *= k
     else:
         G = s * (x[:, 2] + 1j * x[:, 3]) + t
         x[:, 2], x[:, 3] = G.real, G.imag
@@ -212,6 +256,9 @@ def mirror(topology: str, x: np.ndarray, sigma) -> tuple[np.ndarray, np.ndarray]
         x[:, 2], x[:, 3] = -x[:, 2], -x[:, 3]
         return x, sig
     x[:, 3] = -x[:, 3]
+    if topology == SIXBAR:
+        x[:, 8], x[:, 10] = -x[:, 8], -x[:, 10]
+        return x, -sig
     if topology == INVERTED:
         x[:, 5] = -x[:, 5]
         return x, sig
@@ -219,4 +266,4 @@ def mirror(topology: str, x: np.ndarray, sigma) -> tuple[np.ndarray, np.ndarray]
 
 
 __all__ = ["Evaluation", "FOURBAR", "INVERTED", "OUTPUT_UNIT", "PARAMS", "POSITIVE", "SLIDER_CRANK", "TOPOLOGIES",
-           "evaluate", "mirror", "transform"]
+           "SIXBAR", "evaluate", "mirror", "transform"]

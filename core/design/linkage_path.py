@@ -28,18 +28,21 @@ from ..solver.plan import Plan
 from . import families as F
 from .atlas import load_atlas
 from .candidates import Stopwatch
-from .finish import Design, finish, refusal_text
+from .finish import Design, finish, fixed_pivots, refusal_text
 from .options import DesignResult, LinkageOptions
 from .path_starts import Start, closed_starts, open_starts
 from .refine import floor_penalty, levenberg_marquardt
 from .targets import DesignError, PathTarget, Progress, report
 
-TOPOLOGIES = (F.FOURBAR, F.SLIDER_CRANK, F.INVERTED)
-CHOICES = TOPOLOGIES + ("sixbar", "any")
+TOPOLOGIES = (F.FOURBAR, F.SLIDER_CRANK, F.INVERTED, F.SIXBAR)
+CHOICES = TOPOLOGIES + ("any",)
 #: starts refined per topology
 STARTS = 40
 #: samples of the transmission-angle penalty over the span
 PENALTY_SAMPLES = 72
+#: Levenberg–Marquardt iterations of the refinement (the six-bar's 15 parameters converge slower)
+ITERATIONS = {F.SIXBAR: 200}
+DEFAULT_ITERATIONS = 80
 #: weight of the transmission-angle penalty (per unit of sin μ below the floor, per sample)
 MU_WEIGHT = 2.0
 #: weight of the order penalty (per radian of a step against the crank's direction)
@@ -118,19 +121,27 @@ def refine(topology: str, starts: list[Start], target: PathTarget, options: Link
         Jo[:, ar, k + ar + 1] = np.where(act, -ORDER_WEIGHT * direction[rows, None], 0.0)
         return (np.concatenate([d.real, d.imag, rp, ro], axis=1), np.concatenate([J, Jp, Jo], axis=1))
 
-    u, _ = levenberg_marquardt(fun, u0, iterations=80, stop=stop, lower=lower, upper=upper)
+    u, _ = levenberg_marquardt(fun, u0, iterations=ITERATIONS.get(topology, DEFAULT_ITERATIONS), stop=stop, lower=lower, upper=upper)
     th = _thetas(target, u, k, direction)
     P = F.evaluate(topology, u[:, :k], th, sigma).P
     rms = np.sqrt(np.mean(np.abs(P - z[None, :]) ** 2, axis=1))
     return u[:, :k], th, np.where(np.isfinite(rms), rms, np.inf)
 
 
+def _fits(topology: str, options: LinkageOptions, size: float, centre: complex):
+    """Whether a world design keeps within the size guard (links) and the pivot region."""
+    cols = [F.PARAMS[topology].index(n) for n in F.POSITIVE[topology]]
+
+    def fits(x: np.ndarray) -> bool:
+        return bool(np.all(np.abs(x[cols]) <= options.max_size * size)
+                    and options.pivot_ok(fixed_pivots(topology, x), centre, size).all())
+
+    return fits
+
+
 def _topologies(topology: str) -> tuple[str, ...]:
     if topology == "any":
         return TOPOLOGIES
-    if topology == "sixbar":
-        raise DesignError("path synthesis of six-bars is not available in this version; use --topology fourbar, "
-                          "slider_crank, inverted_slider_crank or any")
     if topology not in TOPOLOGIES:
         raise DesignError(f"unknown topology {topology!r}; choose one of {', '.join(CHOICES)}")
     return (topology,)
@@ -160,7 +171,7 @@ def synthesize_path(target: PathTarget, options: LinkageOptions = LinkageOptions
         report(progress, 0.3 + 0.4 * lo, f"{top}: retrieving and aligning")
         t0 = watch.elapsed
         find = closed_starts if target.closed else open_starts
-        found_starts = find(atlas, target, starts, options.min_transmission_deg)
+        found_starts = find(atlas, target, starts, options.min_transmission_deg, _fits(top, options, size, centre))
         timings["retrieve"] += watch.elapsed - t0
         if not found_starts:
             notes.append(f"{top}: no atlas design passes the transmission angle asked")

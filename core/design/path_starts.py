@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Callable
 
 import numpy as np
 
@@ -80,8 +81,10 @@ def _world(topology: str, x: np.ndarray, sigma: float, theta: np.ndarray, s: com
     return Start(topology, xw, sigma, direction, th + math.atan2(s.imag, s.real), fit)
 
 
-def closed_starts(atlas: Atlas, target: PathTarget, count: int, min_mu_deg: float) -> list[Start]:
-    """Up to ``count`` starts for a closed target from the atlas's nearest descriptors."""
+def closed_starts(atlas: Atlas, target: PathTarget, count: int, min_mu_deg: float,
+                  fits: Callable[[np.ndarray], bool] | None = None) -> list[Start]:
+    """Up to ``count`` starts for a closed target from the atlas's nearest descriptors (only
+    those whose world design ``fits``, when given: e.g. the size guard and pivot region)."""
     z = target.points[:, 0] + 1j * target.points[:, 1]
     q, mir, _ = query_variants(z)
     dist, rows = atlas.nearest(q, k=max(4 * count, 64))
@@ -103,7 +106,9 @@ def closed_starts(atlas: Atlas, target: PathTarget, count: int, min_mu_deg: floa
         i = tau * ARC - j
         frac = (np.remainder(i, ARC) if not rev else (ARC - 1) - np.remainder(i, ARC)) / ARC
         th = _theta_at(curve, theta, frac)
-        out.append(_world(atlas.topology, x, sigma, th, s, t, -1.0 if rev else 1.0, fit))
+        st = _world(atlas.topology, x, sigma, th, s, t, -1.0 if rev else 1.0, fit)
+        if fits is None or fits(st.x):
+            out.append(st)
         if len(out) >= count:
             break
     return out
@@ -156,9 +161,10 @@ def _scan(w: np.ndarray, arcs: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray
     return best, how
 
 
-def open_starts(atlas: Atlas, target: PathTarget, count: int, min_mu_deg: float) -> list[Start]:
+def open_starts(atlas: Atlas, target: PathTarget, count: int, min_mu_deg: float,
+                fits: Callable[[np.ndarray], bool] | None = None) -> list[Start]:
     """Up to ``count`` starts for an open arc by scanning windows of a spread subset of the
-    atlas's curves (see the module docstring)."""
+    atlas's curves (see the module docstring; ``fits`` as for :func:`closed_starts`)."""
     z = target.points[:, 0] + 1j * target.points[:, 1]
     arc = _resample_open(z, ARC_POINTS)
     zc = arc - arc.mean()
@@ -181,7 +187,7 @@ def open_starts(atlas: Atlas, target: PathTarget, count: int, min_mu_deg: float)
     tau = _arc_fractions(z, False)
     dense = 2 * math.pi * np.arange(DENSE) / DENSE
     size = float(np.sqrt(np.mean(np.abs(z - z.mean()) ** 2))) or 1.0
-    for c in np.argsort(-best)[: 2 * count]:
+    for c in np.argsort(-best)[: 4 * count]:
         si, j, vi = how[c]
         mirrored, reverse, _ = variants[vi]
         x, sigma = _design(atlas, int(rows[c]), False)
@@ -196,7 +202,9 @@ def open_starts(atlas: Atlas, target: PathTarget, count: int, min_mu_deg: float)
         P = F.evaluate(atlas.topology, x[None], th[None], sigma).P[0]
         s, t, res = similarity(P, z)
         direction = 1.0 if np.sum(np.diff(np.unwrap(th))) >= 0 else -1.0
-        out.append(_world(atlas.topology, x, sigma, th, s, t, direction, res / size))
+        st = _world(atlas.topology, x, sigma, th, s, t, direction, res / size)
+        if fits is None or fits(st.x):
+            out.append(st)
     out.sort(key=lambda st: st.fit)
     return out[:count]
 

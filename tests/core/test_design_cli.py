@@ -68,8 +68,7 @@ def test_design_motion_and_function(tmp_path, capsys):
     (["function"], "input_deg,output_deg\n0,0\n10,5\n", "at least 3"),
     (["function"], "input_deg,output_deg\n0,0\n10,5\nabc,7\n", "'abc' is not a number"),
     (["path"], "x,y\n0,0\n1,0\n1,1\n", "at least 6 points"),
-    (["path", "--topology", "sixbar"], "x,y\n" + "\n".join(f"{math.cos(t)},{math.sin(t)}" for t in np.linspace(0, 6, 12)),
-     "not available"),
+    (["path", "--topology", "fourbar"], "x,y\n0,0\n1,0\n1,0\n1,1\n0,1\n0,2\n", "points 2 and 3 are the same point"),
 ])
 def test_bad_input_exit_1_nothing_written(atlas_cache, tmp_path, capsys, args, content, message):
     src = tmp_path / "in.csv"

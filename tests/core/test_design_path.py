@@ -87,10 +87,27 @@ def test_reachable_closed_target_is_recovered(atlas_cache, topology):
         assert c.deviation >= np.max(_distance_to_curve(c.linkage, pts)) - 1e-9 * t.size
 
 
+def test_reachable_sixbar_is_recovered(atlas_cache):
+    from mechsketch.core.design.atlas import load_atlas
+
+    atlas = load_atlas("sixbar")
+    x = F.transform("sixbar", atlas.params(np.array([2 * 1234 % (2 * len(atlas))])), 100.0, 0j)[0]
+    th = np.linspace(0.5, 0.5 + 2 * math.pi, 40, endpoint=False)
+    P = 0.7 * np.exp(1.2j) * F.evaluate("sixbar", x[None], th[None], 1.0).P[0] + (300 - 50j)
+    pts = np.stack([P.real, P.imag], axis=1)
+    t = path_target(pts)
+    res = synthesize_path(t, LinkageOptions(candidates=1, min_transmission_deg=15, max_size=12), "sixbar", starts=8)
+    best = res.candidates[0]
+    assert best.deviation <= 1e-6 * t.size
+    assert np.max(_distance_to_curve(best.linkage, pts)) <= 1e-6 * t.size
+    _check(best, True, 15)
+    assert {"A", "D", "F"} <= set(best.linkage.link("ground").joints)
+
+
 def test_any_topology_finds_the_exact_one_first(atlas_cache):
     pts = _reachable("fourbar")
     t = path_target(pts)
-    res = synthesize_path(t, LinkageOptions(candidates=2, min_transmission_deg=20), "any", starts=12)
+    res = synthesize_path(t, LinkageOptions(candidates=2, min_transmission_deg=20), "any", starts=6)
     assert res.candidates[0].deviation <= 1e-6 * t.size
     assert [c.deviation for c in res.candidates] == sorted(c.deviation for c in res.candidates) or \
         res.candidates[0].topology == "fourbar"
@@ -99,7 +116,7 @@ def test_any_topology_finds_the_exact_one_first(atlas_cache):
 def test_open_arc_and_timed_path(atlas_cache):
     pts = _reachable("slider_crank", 25, closed=False, span=(0.5, 3.0))
     t = path_target(pts, closed=False)
-    res = synthesize_path(t, LinkageOptions(candidates=1, min_transmission_deg=20), "slider_crank", starts=16)
+    res = synthesize_path(t, LinkageOptions(candidates=1, min_transmission_deg=20), "slider_crank", starts=8)
     c = res.candidates[0]
     assert c.deviation <= 1e-3 * t.size
     # the crank passes the points in order without a dead point between the first and the last
@@ -110,7 +127,7 @@ def test_open_arc_and_timed_path(atlas_cache):
     # timed: the points at given crank angles from the first
     inputs = np.degrees(np.linspace(0.0, 2.5, 25))
     tt = path_target(pts, closed=False, inputs_deg=inputs)
-    res = synthesize_path(tt, LinkageOptions(candidates=1, min_transmission_deg=20), "slider_crank", starts=16)
+    res = synthesize_path(tt, LinkageOptions(candidates=1, min_transmission_deg=20), "slider_crank", starts=8)
     c = res.candidates[0]
     sgn = 1.0 if c.linkage.driver.speed_rpm > 0 else -1.0
     sol = compile_plan(c.linkage).evaluate(c.inputs_rad[0] + sgn * np.radians(inputs), order=0)
@@ -138,8 +155,8 @@ def test_path_refusals(atlas_cache):
         path_target([[0, 0], [1, 0], [1, 1], [float("nan"), 1], [0, 2], [3, 3]])
     with pytest.raises(DesignError, match="points 2 and 3 are the same point"):
         path_target([[0, 0], [1, 0], [1, 0], [0, 1], [0, 2], [3, 3]])
-    with pytest.raises(DesignError, match="not available"):
-        synthesize_path(path_target(_reachable("fourbar")), topology="sixbar")
+    with pytest.raises(DesignError, match="unknown topology"):
+        synthesize_path(path_target(_reachable("fourbar")), topology="watt")
     with pytest.raises(DesignError, match="lower the minimum transmission angle"):
         synthesize_path(path_target(_reachable("fourbar")), LinkageOptions(min_transmission_deg=89.9), "fourbar")
 
