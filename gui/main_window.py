@@ -13,7 +13,7 @@ Start-up (issue 14): the first frame does not wait for what it does not show. Th
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Callable
 
@@ -28,6 +28,9 @@ from .controller import SceneController
 from .dialogs import DialogService
 from .selection import ELEMENT
 from .file_ops import FileOps
+from .help.actions import HelpCommands
+from . import units
+from .preferences import Preferences, apply_preferences, load_preferences, part_options, save_preferences
 from .panels.diagnostics import DiagnosticsPanel
 from .panels.properties import PropertiesPanel
 
@@ -134,6 +137,11 @@ class MainWindow(QMainWindow):
         self.statusBar().addPermanentWidget(self.solve_label)
         self.statusBar().addPermanentWidget(self.frame_label)
 
+        # -- preferences (issue 24 item 9): units, snap, samples, dead points, new parts -----------
+        self.preferences = load_preferences(file_ops.settings)
+        self.preferences_dialog = None
+        apply_preferences(self.preferences, self, autosave=False)   # the app sets the interval it starts with
+
         # -- wiring -------------------------------------------------------------------------
         controller.message.connect(self.show_message)
         controller.solveFailed.connect(self._on_solve_failed)
@@ -226,6 +234,14 @@ class MainWindow(QMainWindow):
         if self.parts.zoom_fit is not None:
             self.actions["zoom_fit"] = self.parts.zoom_fit
         self._action("about", "&About mechsketch", self.about)
+        prefs = self._action("preferences", "Pre&ferences…", self.open_preferences, "Ctrl+,",
+                             "Units, grid and snap, samples, autosave, dead points, defaults of new parts")
+        keys = [QKeySequence("Ctrl+,")] + [k for k in QKeySequence.keyBindings(K.Preferences)
+                                           if k.toString() != "Ctrl+,"]
+        prefs.setShortcuts(keys)
+        # -- help (issue 24 item 8): Manual (F1, context help), Getting Started, Shortcuts
+        self.help = HelpCommands(self)
+        self.actions.update(self.help.actions)
         for name in self.file_ops.examples():
             self._action(f"example:{name}", name.replace("_", " "),
                          lambda name=name: self.file_ops.open_example(name), tip=f"Open the example {name}")
@@ -249,6 +265,8 @@ class MainWindow(QMainWindow):
         if "delete" in a:
             edit.addSeparator()
             edit.addAction(a["delete"])
+        edit.addSeparator()
+        edit.addAction(a["preferences"])
         view = bar.addMenu("&View")
         view.addActions(self.parts.view_actions)
         self._add_extra(view, "view")
@@ -265,6 +283,8 @@ class MainWindow(QMainWindow):
             examples.addAction(a[f"example:{name}"])
         self._add_extra(examples, "examples")
         help_menu = bar.addMenu("&Help")
+        help_menu.addActions([a["manual"], a["getting_started"], a["shortcuts"]])
+        help_menu.addSeparator()
         help_menu.addAction(a["about"])
 
     def _add_extra(self, menu: QMenu, key: str) -> None:
@@ -319,7 +339,9 @@ class MainWindow(QMainWindow):
 
     def show_cursor(self, x: float, y: float) -> None:
         """The pointer's world position in the status bar."""
-        self.cursor_label.setText(f"{x:.2f}, {y:.2f} mm")
+        u = units.current()
+        self.cursor_label.setText(f"{units.to_display(x, 'mm', u):.{2 if u.length == 'mm' else 4}f}, "
+                                  f"{units.to_display(y, 'mm', u):.{2 if u.length == 'mm' else 4}f} {u.length}")
 
     def _on_changed(self, _change) -> None:
         self.update_title()
@@ -402,11 +424,13 @@ class MainWindow(QMainWindow):
             return False
         target = self.export_target() or elements[0]
         choices = {e.id: part_names(e) for e in elements}
-        min_webs = {e.id: min_web_of(e, PartOptions()) for e in elements}
+        preferred = PartOptions(min_web=self.preferences.min_web or None)
+        min_webs = {e.id: min_web_of(e, preferred) for e in elements}
         title = f"Export {fmt.upper()}"
         req = self.dialogs.export_request(title, choices, target.id, fmt, min_webs)
         if req is None:
             return False
+        req = replace(req, options=part_options(self.preferences, req.options))   # preferred plate sizes
         el = scene.element(req.element_id)
         folder = self.controller.path.parent if self.controller.path else Path.home()
         name = self.dialogs.save_file_name(f"Export {el.id} as {fmt.upper()}", str(folder / f"{el.id}.{fmt}"),
@@ -425,6 +449,33 @@ class MainWindow(QMainWindow):
     def _export_failed(self, message: str) -> None:
         self.show_message(message)
         self.dialogs.error("Export DXF", f"{message}\n\nThe scene is not affected.")
+
+    # -- preferences -------------------------------------------------------------------------
+    def open_preferences(self) -> None:
+        """Edit › Preferences: the dialog (window-modal, not blocking); OK stores and applies."""
+        from .preferences import PreferencesDialog
+
+        if self.preferences_dialog is not None and self.preferences_dialog.isVisible():
+            self.preferences_dialog.raise_()
+            return
+        dlg = PreferencesDialog(self.preferences, self)
+        dlg.accepted.connect(lambda: self.set_preferences(dlg.value()))
+        self.preferences_dialog = dlg
+        dlg.open()
+
+    def set_preferences(self, prefs: Preferences) -> bool:
+        """Store ``prefs`` in the settings file and apply them; False (with the reason) if a value
+        is out of range."""
+        problems = prefs.problems()
+        if problems:
+            self.dialogs.error("Preferences", "Not saved: " + "; ".join(problems))
+            return False
+        save_preferences(self.file_ops.settings, prefs)
+        apply_preferences(prefs, self)
+        self.preferences = prefs
+        self.show_message(f"preferences saved: lengths in {prefs.length_unit}, angles in "
+                          f"{'°' if prefs.angle_unit == 'deg' else 'rad'}, speeds in {prefs.speed_unit}")
+        return True
 
     def about(self) -> None:
         from importlib.metadata import PackageNotFoundError, version

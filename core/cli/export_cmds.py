@@ -98,10 +98,14 @@ def drawing_problems(ws: Workspace) -> list[Problem]:
     export runs): a drive that validates always exports."""
     from ..analyses.parts import require_checked
     from ..analyses.parts.build import PartOptions, element_parts, min_web_of
+    from ..model.kinds import element_kind
 
     out = []
     opts = PartOptions()
     for k, el in enumerate(ws.scene.elements):
+        kind = element_kind(el.type)
+        if kind is not None and not kind.parts:
+            continue   # an underlay: a reference, nothing is cut from it
         try:
             ps = element_parts(el, opts, _plan(ws, el))
             require_checked(ps, min_web_of(el, opts))

@@ -45,8 +45,8 @@ def _v1_to_v2(doc: dict) -> dict:
 
 def _v2_to_v3(doc: dict) -> dict:
     """Version 2 -> 3: the identity but for the number. Version 3 adds optional content only (a
-    linkage's ``drawing`` block of plate sizes; new element types), so a version 2 document is
-    already a valid version 3 one."""
+    linkage's ``drawing`` block of plate sizes; new element kinds such as ``underlay``), so a
+    version 2 document is already a valid version 3 one."""
     return {**doc, "schema_version": 3}
 
 

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 from typing import Any, Callable
 
 from ..errors import Problem
-from . import geneva, linkage_parse, rolling_lever
+from . import geneva, linkage_parse, rolling_lever, underlay
 from .linkage import Linkage
 
 
@@ -19,12 +19,14 @@ from .linkage import Linkage
 class ElementKind:
     """One element type: ``schema`` a file in ``mechsketch.resources.schema``; ``parse(data, path)``
     returns (the record or None, [Problem]) with ``path`` the element's JSON path in messages;
-    ``dump(record)`` the element's JSON object."""
+    ``dump(record)`` the element's JSON object; ``parts`` False for a kind that is no part of the
+    machine (an underlay: nothing is cut from it, ``validate`` builds no parts of it)."""
 
     type: str
     schema: str
     parse: Callable[[dict[str, Any], str], tuple[Any, list[Problem]]]
     dump: Callable[[Any], dict[str, Any]]
+    parts: bool = True
 
 
 #: element type -> its kind, in the order the README lists them
@@ -33,6 +35,8 @@ ELEMENT_KINDS: dict[str, ElementKind] = {
     "geneva": ElementKind("geneva", geneva.SCHEMA, geneva.parse, geneva.Geneva.to_dict),
     "rolling_lever": ElementKind("rolling_lever", rolling_lever.SCHEMA, rolling_lever.parse,
                                  rolling_lever.RollingLever.to_dict),
+    # schema_version 3: a drawing or picture under the canvas (issue 22 item 6)
+    "underlay": ElementKind("underlay", underlay.SCHEMA, underlay.parse, underlay.Underlay.to_dict, parts=False),
 }
 
 

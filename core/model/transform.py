@@ -14,6 +14,7 @@ from ..errors import EditError
 from .geneva import Geneva
 from .linkage import Linkage
 from .rolling_lever import Circle, Drive, RollingLever
+from .underlay import Underlay
 
 XY = tuple[float, float]
 
@@ -37,6 +38,8 @@ def translated(element: Any, dx: float, dy: float) -> Any:
                        lever_circle=Circle(_add(element.lever_circle.center, dx, dy), element.lever_circle.radius),
                        slider_circle=Circle(_add(element.slider_circle.center, dx, dy), element.slider_circle.radius),
                        pin=_add(element.pin, dx, dy), rocker_pivot=_add(element.rocker_pivot, dx, dy), drive=drive)
+    if isinstance(element, Underlay):
+        return element.with_placement(element.placement.moved(dx, dy))
     raise EditError(f"cannot move element {getattr(element, 'id', '?')!r} of type "
                     f"{getattr(element, 'type', type(element).__name__)!r}")
 
@@ -61,6 +64,9 @@ def extent(element: Any) -> tuple[float, float, float, float]:
         pts += [element.pin, element.rocker_pivot]
         if element.drive is not None:
             pts += [element.drive.crank_pivot, element.drive.coupler_point]
+    elif isinstance(element, Underlay):
+        x0, y0, x1, y1 = element.world_bounds()
+        pts = [(x0, y0), (x1, y1)]
     if not pts:
         return (0.0, 0.0, 0.0, 0.0)
     xs, ys = [p[0] for p in pts], [p[1] for p in pts]

@@ -114,6 +114,7 @@ class CanvasView(QGraphicsView):
         self._key: tuple | None = None
         self._fit_pending = False   # a replaced document is fitted at its first sync
         self._snap = True
+        self.fixed_snap_step = 0.0   # mm; > 0: snap to this step instead of the grid's (Preferences)
         self._fitted = False
         self._labels = True
 
@@ -228,8 +229,8 @@ class CanvasView(QGraphicsView):
         return (p.x(), p.y())
 
     def snap_step(self) -> float:
-        """The grid step positions snap to at the current zoom, mm."""
-        return grid_steps(self.px())[0]
+        """The grid step positions snap to at the current zoom, mm (or the preferred fixed step)."""
+        return self.fixed_snap_step if self.fixed_snap_step > 0 else grid_steps(self.px())[0]
 
     def snap(self, raw: XY, hit: Hit | None = None) -> XY:
         """``raw`` snapped to the joint under the cursor, else to the grid (if snapping is on)."""

@@ -1,10 +1,13 @@
 """The diagnostics panel: for each linkage, mobility, the Assur groups found (kind, mode), reachable
-input ranges, dead points, transmission-angle range, and the solve's time and loop-closure error.
+input ranges, dead points, transmission-angle range, and the solve's time and loop-closure error;
+when it has masses or loads, the forces summary too (peak and RMS driving effort, peak reaction of
+each joint, shaking force and moment, power-balance residual, the result with friction).
 
 Each element shows its result's summary: the text of ``mechsketch analyze --summary`` for a
-linkage or a Geneva drive, of ``mechsketch synthesize --summary`` for a rolling lever (one text,
-in core/analyses, shared by CLI and GUI), so every number here can be reproduced headless. An
-element that cannot be solved shows the core's message.
+linkage or a Geneva drive (``analyze --forces --summary`` for a linkage with masses or loads), of
+``mechsketch synthesize --summary`` for a rolling lever (one text, in core/analyses, shared by CLI
+and GUI), so every number here can be reproduced headless. An element that cannot be solved shows
+the core's message.
 """
 from __future__ import annotations
 
@@ -12,6 +15,7 @@ import html
 
 from PySide6.QtWidgets import QTextBrowser, QVBoxLayout, QWidget
 
+from mechsketch.core import MechsketchError
 from mechsketch.core.model.linkage import Linkage
 
 from ..controller import SceneController
@@ -37,7 +41,21 @@ def diagnostics_lines(controller: SceneController) -> list[tuple[str, str]]:
         out.append(("head", head))
         out.extend(("", line) for line in rest)
         out.append(("", f"solve + diagnostics in the app: {res.seconds * 1e3:.2f} ms"))
+        if el.has_dynamics:
+            out.extend(force_lines(controller, el.id))
     return out
+
+
+def force_lines(controller: SceneController, element_id: str) -> list[tuple[str, str]]:
+    """The forces summary of a linkage (the text ``analyze --forces --summary`` adds), computed
+    when first asked and cached by the workspace; the core's message if it cannot be computed."""
+    from mechsketch.core.analyses.forces.report import force_summary
+
+    try:
+        head, *rest = force_summary(controller.workspace.forces(element_id)).splitlines()
+    except MechsketchError as exc:
+        return [("error", f"forces: {exc}")]
+    return [("head", head), *(("", line.strip()) for line in rest)]
 
 
 def _element_lines(controller: SceneController, el) -> list[tuple[str, str]]:

@@ -29,7 +29,7 @@ from ..controller import SceneController
 from .element_plots import element_plot_data
 from .force_plots import add_force_series
 from .lazy import LazyRefresh
-from .plot_series import COLORS, PLOTS, PlotData, Series
+from .plot_series import COLORS, PLOTS, PlotData, Series, in_display_units
 
 pg.setConfigOptions(antialias=True, background="w", foreground="k")   # the app's look (set on import: the
 # main window imports this module after its first frame, issue 14)
@@ -192,7 +192,7 @@ class PlotsPanel(LazyRefresh, QWidget):
     def refresh(self) -> None:
         """Re-read the controller and redraw every curve."""
         self._stale = False
-        self.data = data = plot_data(self.controller)
+        self.data = data = in_display_units(plot_data(self.controller))   # Edit › Preferences units
         self.title.setText(data.title)
         keys = [(x.plot, x.name, x.unit) for x in data.series]
         if data.rows != self._rows:  # another kind of element: other stacked plots

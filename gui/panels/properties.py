@@ -24,6 +24,7 @@ from PySide6.QtWidgets import (QComboBox, QFormLayout, QFrame, QGroupBox, QHBoxL
 from mechsketch.core import MechsketchError, MoveJoint, ReplaceElement
 from mechsketch.core.model.linkage import JointKind, Linkage
 
+from .. import units
 from ..controller import SceneController
 from ..selection import ELEMENT, element_target
 from mechsketch.core.solver.flip import FLIPPABLE, flip_edit
@@ -73,6 +74,11 @@ class PropertiesPanel(QWidget):
         self._key: object = None
         controller.changed.connect(self._on_changed)
         controller.selectionChanged.connect(self.refresh)
+        self.refresh()
+
+    def units_changed(self) -> None:
+        """The display units changed (Edit › Preferences): rebuild, so labels and values follow."""
+        self._key = None
         self.refresh()
 
     # -- what to show ------------------------------------------------------------------------
@@ -214,7 +220,7 @@ class PropertiesPanel(QWidget):
             if edit.hasFocus() and edit.isModified():
                 return
             try:
-                text = fmt(read())
+                text = units.format_value(read(), edit.property("unit"))   # in the display unit
             except MechsketchError:   # the joint or link went away: the panel rebuilds next
                 return
             edit.setText(text)
@@ -227,18 +233,16 @@ class PropertiesPanel(QWidget):
         def commit() -> None:
             text = edit.text().strip()
             try:
-                current = fmt(read())
+                current = units.format_value(read(), edit.property("unit"))
             except MechsketchError:   # the joint or link went away: the panel rebuilds next
                 return
             if text == current:
                 show_model()
                 return
-            try:
-                value = float(text)
-                if not math.isfinite(value):
-                    raise ValueError(f"{text!r} is not a finite number")
-            except ValueError:
-                self.controller.message.emit(f"{name}: {text!r} is not a number")
+            try:   # typed in the display unit, or with its own (2 in, 50.8 mm); back in the model's
+                value = units.parse(text, edit.property("unit"))
+            except ValueError as exc:
+                self.controller.message.emit(f"{name}: {exc}")
                 show_model()
                 return
             try:
@@ -269,7 +273,8 @@ class PropertiesPanel(QWidget):
         h = QHBoxLayout(w)
         h.setContentsMargins(0, 0, 0, 0)
         h.addWidget(edit, 1)
-        h.addWidget(QLabel(unit))
+        edit.setProperty("unit", unit)                # the model's unit; shown in the display unit
+        h.addWidget(QLabel(units.display_unit(unit)))
         return w
 
     def _lk(self, eid: str) -> Linkage:

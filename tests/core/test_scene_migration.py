@@ -107,3 +107,23 @@ def test_a_version_2_driver_must_say_its_kind():
 def test_a_version_2_text_round_trips():
     scene = load_scene(example_path("sixbar_moving_guide"))
     assert loads_scene(dumps_scene(scene)) == scene
+
+
+#: the examples as they shipped in version 2 (copies, so they stay version 2 files)
+V2 = sorted((Path(__file__).parent.parent / "fixtures" / "scenes_v2").glob("*.json"))
+
+
+def test_there_are_version_2_fixtures():
+    assert len(V2) >= 14
+
+
+@pytest.mark.parametrize("path", V2, ids=lambda p: p.stem)
+def test_a_version_2_file_migrates_to_3_unchanged_and_resaves_as_3(tmp_path, path):
+    raw = json.loads(path.read_text(encoding="utf-8"))
+    assert raw["schema_version"] == 2
+    out = migrate(raw)
+    assert out == {**raw, "schema_version": 3} and raw["schema_version"] == 2
+    scene = load_scene(path)
+    save_scene(scene, tmp_path / path.name)
+    assert json.loads((tmp_path / path.name).read_text(encoding="utf-8"))["schema_version"] == 3
+    assert load_scene(tmp_path / path.name) == scene

@@ -52,6 +52,7 @@ from ...model.linkage import JointKind, Linkage
 from ...solver.kernels import cross
 from ...solver.plan import Plan, Solution
 from ...solver.structure import Group
+from .errors import force_errors
 from .passes import MM, Kinetostatics, Pass, _pin_force
 
 __all__ = ["COND_WARN", "DeadPointNote", "DriverEffort", "ForceResult", "FrictionResult", "MM",
@@ -206,8 +207,6 @@ class ForceResult:
         the conditioning of the group solves (:func:`~.errors.force_errors`); NaN where the
         forces are not valid. Computed on first access."""
         if self._errors is None:
-            from .errors import force_errors
-
             plan, sol = self._error_args
             self._errors = force_errors(self, plan, sol)
             self._error_args = None
