@@ -33,7 +33,6 @@ import os
 import statistics
 import subprocess
 import sys
-import tempfile
 import time
 import warnings
 from pathlib import Path
@@ -56,7 +55,7 @@ from mechsketch.core.design.options import LinkageOptions  # noqa: E402
 from mechsketch.core.design.targets import function_target, path_target, pose_target  # noqa: E402
 
 REFERENCE = HERE / "synthesis_de_reference.json"
-TOPS = ("fourbar", "slider_crank", "inverted_slider_crank")
+TOPS = ("fourbar", "slider_crank", "inverted_slider_crank", "sixbar")
 
 
 def load() -> str:
@@ -82,32 +81,32 @@ def line(what: str, seconds: float, ref: float, extra: str = "") -> None:
           f"[{load()}]", flush=True)
 
 
-def section_atlas(designs: int, workers: int, ref: float) -> None:
+def section_atlas(designs: int, workers: int, ref: float, tops: tuple[str, ...] = TOPS) -> None:
+    """Build each atlas in this process (and store it in the user cache folder, where the other
+    sections read it), then again on a Dask LocalCluster of ``workers`` processes (compared
+    with the first bit for bit, not stored)."""
     print(f"atlas build, {designs:,} designs per topology (closed-form batch solver; numba resampling)")
-    with tempfile.TemporaryDirectory() as tmp:
-        os.environ["MECHSKETCH_CACHE_DIR"] = tmp
-        for top in TOPS:
-            t0 = time.perf_counter()
-            atlas = build_atlas(top, designs)
-            one = time.perf_counter() - t0
-            folder = atlas_folder(top, designs)
-            save_atlas(atlas, folder)
-            size = disk_bytes(folder)
-            line(f"{top}: 1 process", one, ref, f"{atlas.meta['drawn']:,} drawn, {len(atlas):,} kept, "
-                 f"{size / 1e6:.1f} MB on disk")
-            if workers > 1:
-                from distributed import Client, LocalCluster
+    for top in tops:
+        t0 = time.perf_counter()
+        atlas = build_atlas(top, designs)
+        one = time.perf_counter() - t0
+        folder = atlas_folder(top, designs)
+        save_atlas(atlas, folder)
+        size = disk_bytes(folder)
+        line(f"{top}: 1 process", one, ref, f"{atlas.meta['drawn']:,} drawn, {len(atlas):,} kept, "
+             f"{size / 1e6:.1f} MB on disk ({folder})")
+        if workers > 1:
+            from distributed import Client, LocalCluster
 
-                with LocalCluster(n_workers=workers, threads_per_worker=1, dashboard_address=None) as cl, \
-                        Client(cl) as client:
-                    t0 = time.perf_counter()
-                    remote = build_atlas(top, designs, client=client)
-                    many = time.perf_counter() - t0
-                same = all(np.array_equal(getattr(atlas, k), getattr(remote, k))
-                           for k in ("shape", "points", "desc", "func", "turns", "mu"))
-                line(f"{top}: Dask LocalCluster of {workers} processes", many, ref,
-                     f"{one / many:.2f}× one process; bit-identical: {same}")
-        os.environ.pop("MECHSKETCH_CACHE_DIR")
+            with LocalCluster(n_workers=workers, threads_per_worker=1, dashboard_address=None) as cl, \
+                    Client(cl) as client:
+                t0 = time.perf_counter()
+                remote = build_atlas(top, designs, client=client)
+                many = time.perf_counter() - t0
+            same = all(np.array_equal(getattr(atlas, k), getattr(remote, k))
+                       for k in ("shape", "points", "desc", "func", "turns", "mu"))
+            line(f"{top}: Dask LocalCluster of {workers} processes", many, ref,
+                 f"{one / many:.2f}× one process; bit-identical: {same}")
 
 
 def section_warm(designs: int, ref: float) -> None:
@@ -132,7 +131,9 @@ def section_warm(designs: int, ref: float) -> None:
 def _reachable(top: str) -> np.ndarray:
     x, sigma = {"fourbar": ([0, 0, 100, 0, 35, 110, 90, 60, 35.0], 1.0),
                 "slider_crank": ([0, 0, 0.2, 15, 40, 130, 50, -30.0], 1.0),
-                "inverted_slider_crank": ([0, 0, 100, 0, 45, 12, 40, 25.0], -1.0)}[top]
+                "inverted_slider_crank": ([0, 0, 100, 0, 45, 12, 40, 25.0], -1.0),
+                "sixbar": ([0, 0, 100, 0, 13.35, 49.61, 84.37, 65.82, 35.68, 150.03, -51.48, 241.37, 129.35,
+                            -34.70, -210.73], 1.0)}[top]
     th = np.linspace(0.3, 0.3 + 2 * math.pi, 40, endpoint=False)
     P = F.evaluate(top, np.array([x]), th[None], sigma).P[0]
     P = 0.7 * np.exp(1.2j) * P + (300 - 50j)
@@ -144,7 +145,8 @@ def section_reachable(designs: int, ref: float) -> None:
     for top in TOPS:
         t = path_target(_reachable(top))
         t0 = time.perf_counter()
-        res = synthesize_path(t, LinkageOptions(candidates=1, min_transmission_deg=20), top, atlas_designs=designs)
+        opts = LinkageOptions(candidates=1, min_transmission_deg=20, max_size=12 if top == "sixbar" else 5)
+        res = synthesize_path(t, opts, top, atlas_designs=designs)
         c = res.candidates[0]
         line(f"{top}", time.perf_counter() - t0, ref, f"max deviation {c.deviation / t.size:.2e} of the size "
              f"({c.deviation:.2e} mm)")

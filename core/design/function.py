@@ -119,6 +119,47 @@ def _screen(topology: str, x, sigma, theta, direction: float):
             (full.ok & (full.sin_mu > 1e-6)).all(axis=1))
 
 
+def _check_request(target: FunctionTarget, topology: str, size: float | None) -> None:
+    if topology not in (F.FOURBAR, F.SLIDER_CRANK):
+        raise DesignError(f"function synthesis makes a fourbar or a slider_crank, not {topology!r}")
+    if (topology == F.FOURBAR) != target.angular:
+        want = "output_deg (a rocker angle) for a fourbar" if topology == F.FOURBAR else \
+            "output_mm (a slider position) for a slider_crank"
+        raise DesignError(f"function: the output must be {want}")
+    if size is not None and not (math.isfinite(size) and size > 0):
+        raise DesignError(f"function: the size must be a positive number of millimetres, got {size}")
+
+
+def _designs(target: FunctionTarget, topology: str, scale: float, options: LinkageOptions, notes: list[str],
+             progress: Progress | None, atlas: bool, atlas_designs: int | None):
+    """Designs meeting the pairs (exactly for 3, refined for more): (x, sigma, theta, error)."""
+    x, sigma, theta = _starts(target, topology, scale)
+    ok = np.all(np.isfinite(x), axis=1) & (sigma != 0)
+    x, sigma, theta = x[ok], sigma[ok], theta[ok]
+    err = _errors(target, topology, x, sigma, theta)
+    notes.append(f"{len(x)} designs from {GRID}² starting values")
+    if len(target.inputs_rad) <= 3:
+        tol = 1e-9 if target.angular else 1e-9 * scale
+        exact = err <= 1e3 * tol
+        notes.append(f"{int((~exact).sum())} with a circuit defect")
+        return x[exact], sigma[exact], theta[exact], err[exact]
+    best = np.argsort(err)[:256]
+    x, sigma, theta = x[best], sigma[best], theta[best]
+    if atlas:
+        report(progress, 0.1, "atlas designs with a similar output")
+        xa, sa, ta = atlas_starts(target, topology, scale, designs=atlas_designs,
+                                  progress=lambda f, m: progress(0.1 + 0.2 * f, m) if progress else None)
+        if len(xa):
+            x, sigma, theta = np.concatenate([x, xa]), np.concatenate([sigma, sa]), np.concatenate([theta, ta])
+            notes.append(f"{len(xa)} starting designs from the {topology} atlas")
+    report(progress, 0.3, f"least squares on {len(x)} designs")
+    x, theta = _refine(target, topology, x, sigma, theta, scale, options,
+                       lambda: report(progress, 0.5, "least squares"))
+    err = _errors(target, topology, x, sigma, theta)
+    keep = np.isfinite(err)
+    return x[keep], sigma[keep], theta[keep], err[keep]
+
+
 def synthesize_function(target: FunctionTarget, options: LinkageOptions = LinkageOptions(),
                         topology: str = F.FOURBAR, size: float | None = None,
                         progress: Progress | None = None, atlas: bool = True,
@@ -128,45 +169,17 @@ def synthesize_function(target: FunctionTarget, options: LinkageOptions = Linkag
     four-bar's ground length, mm (default 100; a slider-crank's scale is the output's);
     ``atlas``: with more than 3 pairs, add starting designs from the atlas (built on first use)."""
     options.check()
-    if topology not in (F.FOURBAR, F.SLIDER_CRANK):
-        raise DesignError(f"function synthesis makes a fourbar or a slider_crank, not {topology!r}")
-    if (topology == F.FOURBAR) != target.angular:
-        want = "output_deg (a rocker angle) for a fourbar" if topology == F.FOURBAR else \
-            "output_mm (a slider position) for a slider_crank"
-        raise DesignError(f"function: the output must be {want}")
-    if size is not None and not (math.isfinite(size) and size > 0):
-        raise DesignError(f"function: the size must be a positive number of millimetres, got {size}")
+    _check_request(target, topology, size)
     watch = Stopwatch()
     n = len(target.inputs_rad)
     scale = (size or 100.0) if target.angular else max(target.output_span, 1e-9)
     direction = 1.0 if target.inputs_rad[-1] > 0 else -1.0
     report(progress, 0.0, "Freudenstein's equations over the starting angles")
-    x, sigma, theta = _starts(target, topology, scale)
-    ok = np.all(np.isfinite(x), axis=1) & (sigma != 0)
-    x, sigma, theta = x[ok], sigma[ok], theta[ok]
-    err = _errors(target, topology, x, sigma, theta)
-    tol = 1e-9 if target.angular else 1e-9 * scale
-    notes = [f"{len(x)} designs from {GRID}² starting values"]
-    if n > 3:
-        best = np.argsort(err)[:256]
-        x, sigma, theta = x[best], sigma[best], theta[best]
-        if atlas:
-            report(progress, 0.1, "atlas designs with a similar output")
-            xa, sa, ta = atlas_starts(target, topology, scale, designs=atlas_designs,
-                                      progress=lambda f, m: progress(0.1 + 0.2 * f, m) if progress else None)
-            if len(xa):
-                x, sigma, theta = np.concatenate([x, xa]), np.concatenate([sigma, sa]), np.concatenate([theta, ta])
-                notes.append(f"{len(xa)} starting designs from the {topology} atlas")
-        report(progress, 0.3, f"least squares on {len(x)} designs")
-        x, theta = _refine(target, topology, x, sigma, theta, scale, options, lambda: report(progress, 0.5, "least squares"))
-        err = _errors(target, topology, x, sigma, theta)
-        exact = np.isfinite(err)
-    else:
-        exact = err <= 1e3 * tol
-    notes.append(f"{int((~exact).sum())} with a circuit defect")
-    x, sigma, theta, err = x[exact], sigma[exact], theta[exact], err[exact]
+    notes: list[str] = []
+    x, sigma, theta, err = _designs(target, topology, scale, options, notes, progress, atlas, atlas_designs)
     report(progress, 0.6, f"transmission angles of {len(x)} designs")
-    mu, span_ok, full = _screen(topology, x, sigma, theta, direction) if len(x) else (np.empty(0), np.zeros(0, bool), np.zeros(0, bool))
+    mu, span_ok, full = _screen(topology, x, sigma, theta, direction) if len(x) else \
+        (np.empty(0), np.zeros(0, bool), np.zeros(0, bool))
     mu_deg = np.degrees(np.arcsin(np.clip(mu, 0.0, 1.0)))
     longest = np.max(np.abs(x[:, 4:7] if topology == F.FOURBAR else x[:, 3:6]), axis=1) if len(x) else np.empty(0)
     good = span_ok & (mu_deg >= options.min_transmission_deg) & (longest <= options.max_size * scale)
@@ -174,10 +187,24 @@ def synthesize_function(target: FunctionTarget, options: LinkageOptions = Linkag
         good &= full
     notes.append(f"{int((~good).sum())} with a dead point, a transmission angle below "
                  f"{options.min_transmission_deg:g}° or a link over {options.max_size:g} × {scale:g} mm")
+    tol = 1e-9 if target.angular else 1e-9 * scale
     score = mu_deg + 20.0 * full - (100.0 * np.log10(1.0 + err / tol) if n > 3 else 0.0)
     rank = np.flatnonzero(good)[np.argsort(-score[good])]
     designs = [Design(topology, x[k], float(sigma[k]), direction, theta[k], float(score[k])) for k in rank]
+    found, refused = finish(designs, options, scale, False, _measure(target), output=True, point=False,
+                            progress=progress)
+    if not found:
+        raise DesignError(f"function: no defect-free {topology} follows the {n} pairs (" + "; ".join(notes)
+                          + (f"; built and refused: {refusal_text(refused)}" if refused else "")
+                          + "): lower the minimum transmission angle, narrow the input span or ease the function")
+    if refused:
+        notes.append(f"refused after building: {refusal_text(refused)}")
+    report(progress, 1.0, "done")
+    return DesignResult(found, watch.elapsed, notes)
 
+
+def _measure(target: FunctionTarget):
+    """The largest output error of a candidate at the pairs, by the solver (° or mm)."""
     def measure(plan: Plan, d: Design):
         sol = plan.evaluate(d.inputs, order=0)
         if target.angular:
@@ -187,15 +214,7 @@ def synthesize_function(target: FunctionTarget, options: LinkageOptions = Linkag
         got = sol.position("C")[:, 0]     # the pin's position along the guide (x: the guide's axis)
         return float(np.max(np.abs((got - got[0]) - target.outputs))), "mm", None, None
 
-    found, refused = finish(designs, options, scale, False, measure, output=True, point=False, progress=progress)
-    if not found:
-        raise DesignError(f"function: no defect-free {topology} follows the {n} pairs (" + "; ".join(notes)
-                          + (f"; built and refused: {refusal_text(refused)}" if refused else "")
-                          + "): lower the minimum transmission angle, narrow the input span or ease the function")
-    if refused:
-        notes.append(f"refused after building: {refusal_text(refused)}")
-    report(progress, 1.0, "done")
-    return DesignResult(found, watch.elapsed, notes)
+    return measure
 
 
 __all__ = ["synthesize_function"]

@@ -63,6 +63,30 @@ def _thetas(target: PathTarget, u: np.ndarray, k: int, direction: np.ndarray) ->
     return u[:, k:]
 
 
+def _bounds(topology: str, unknowns: int, size: float, options: LinkageOptions) -> tuple[np.ndarray, np.ndarray]:
+    """Bounds of the unknowns: link lengths from 1e-3 to ``max_size`` target sizes, else free."""
+    lower = np.full(unknowns, -np.inf)
+    upper = np.full(unknowns, np.inf)
+    for name in F.POSITIVE[topology]:
+        j = F.PARAMS[topology].index(name)
+        lower[j], upper[j] = 1e-3 * size, options.max_size * size
+    return lower, upper
+
+
+def _order_penalty(th: np.ndarray, direction: np.ndarray, k: int, unknowns: int) -> tuple[np.ndarray, np.ndarray]:
+    """The points in order: a residual for each step of the crank (th (D, M)) against its
+    direction (D,), and its Jacobian over the unknowns (the crank angles from column k)."""
+    back = -direction[:, None] * np.diff(th, axis=1)
+    act = back > 0.0
+    m = th.shape[1]
+    ro = np.where(act, ORDER_WEIGHT * back, 0.0)
+    Jo = np.zeros((th.shape[0], m - 1, unknowns))
+    ar = np.arange(m - 1)
+    Jo[:, ar, k + ar] = np.where(act, ORDER_WEIGHT * direction[:, None], 0.0)
+    Jo[:, ar, k + ar + 1] = np.where(act, -ORDER_WEIGHT * direction[:, None], 0.0)
+    return ro, Jo
+
+
 def refine(topology: str, starts: list[Start], target: PathTarget, options: LinkageOptions,
            stop=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Refined designs of the ``starts`` (all of one topology): (x (D, K), theta (D, M),
@@ -75,11 +99,7 @@ def refine(topology: str, starts: list[Start], target: PathTarget, options: Link
     direction = np.array([s.direction for s in starts])
     u0 = np.stack([_unknowns(target, s) for s in starts])
     U = u0.shape[1]
-    lower = np.full(U, -np.inf)
-    upper = np.full(U, np.inf)
-    for name in F.POSITIVE[topology]:
-        j = F.PARAMS[topology].index(name)
-        lower[j], upper[j] = 1e-3 * size, options.max_size * size
+    lower, upper = _bounds(topology, U, size, options)
     floor = math.sin(math.radians(min(options.min_transmission_deg + 3.0, 89.0)))
     whole = target.closed or options.full_turn       # the penalty watches the whole turn, else the span
     frac = np.linspace(0.0, 1.0, PENALTY_SAMPLES, endpoint=not whole)
@@ -111,17 +131,11 @@ def refine(topology: str, starts: list[Start], target: PathTarget, options: Link
                 Jp[:, :, U - 1] += Jp_full[..., k] * frac[None, :]
         if target.timed:
             return (np.concatenate([d.real, d.imag, rp], axis=1), np.concatenate([J, Jp], axis=1))
-        # the points in order: a penalty on each step of the crank against its direction
-        back = -direction[rows, None] * np.diff(th, axis=1)
-        act = back > 0.0
-        ro = np.where(act, ORDER_WEIGHT * back, 0.0)
-        Jo = np.zeros((n, m - 1, U))
-        ar = np.arange(m - 1)
-        Jo[:, ar, k + ar] = np.where(act, ORDER_WEIGHT * direction[rows, None], 0.0)
-        Jo[:, ar, k + ar + 1] = np.where(act, -ORDER_WEIGHT * direction[rows, None], 0.0)
+        ro, Jo = _order_penalty(th, direction[rows], k, U)
         return (np.concatenate([d.real, d.imag, rp, ro], axis=1), np.concatenate([J, Jp, Jo], axis=1))
 
-    u, _ = levenberg_marquardt(fun, u0, iterations=ITERATIONS.get(topology, DEFAULT_ITERATIONS), stop=stop, lower=lower, upper=upper)
+    u, _ = levenberg_marquardt(fun, u0, iterations=ITERATIONS.get(topology, DEFAULT_ITERATIONS), stop=stop,
+                               lower=lower, upper=upper)
     th = _thetas(target, u, k, direction)
     P = F.evaluate(topology, u[:, :k], th, sigma).P
     rms = np.sqrt(np.mean(np.abs(P - z[None, :]) ** 2, axis=1))

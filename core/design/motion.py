@@ -165,12 +165,9 @@ def _refine(target: PoseTarget, x, sigma, theta, stop) -> tuple[np.ndarray, np.n
     return u[:, :9], u[:, 10:], u[:, 9]
 
 
-def synthesize_motion(target: PoseTarget, options: LinkageOptions = LinkageOptions(),
-                      progress: Progress | None = None) -> DesignResult:
-    """Four-bars whose coupler carries joint ``P`` through the poses (see the module docstring).
-    Raises DesignError saying what to relax when no defect-free four-bar is found."""
-    options.check()
-    watch = Stopwatch()
+def _ranked(target: PoseTarget, options: LinkageOptions, notes: list[str], progress: Progress | None) -> list[Design]:
+    """Dyad pairs without circuit, branch or order defects, ranked (exact for 3 and 4 poses, refined
+    by least squares for more)."""
     n, size = len(target.points), target.size
     report(progress, 0.0, "circle and centre points")
     m, g = _dyads(target, options)
@@ -183,7 +180,7 @@ def synthesize_motion(target: PoseTarget, options: LinkageOptions = LinkageOptio
     ok &= np.abs((x[:, 0] - x[:, 2]) + 1j * (x[:, 1] - x[:, 3])) >= 0.05 * size
     x, sigma, theta = x[ok], sigma[ok], theta[ok]
     pos, turn = _pose_errors(target, x, sigma, theta)
-    notes = [f"{len(m)} dyads, {len(x)} pairs screened"]
+    notes.append(f"{len(m)} dyads, {len(x)} pairs screened")
     if n >= 5:
         best = np.argsort(pos / size + turn)[:192]
         x, sigma, theta = x[best], sigma[best], theta[best]
@@ -200,18 +197,27 @@ def synthesize_motion(target: PoseTarget, options: LinkageOptions = LinkageOptio
     keep = direction != 0
     x, sigma, theta, direction, pos, turn = x[keep], sigma[keep], theta[keep], direction[keep], pos[keep], turn[keep]
     report(progress, 0.6, f"transmission angles of {len(x)} defect-free pairs")
-    mu, span_ok, full = _span_screen(x, sigma, theta, direction) if len(x) else (np.empty(0), np.zeros(0, bool), np.zeros(0, bool))
+    mu, span_ok, full = _span_screen(x, sigma, theta, direction) if len(x) else \
+        (np.empty(0), np.zeros(0, bool), np.zeros(0, bool))
     mu_deg = np.degrees(np.arcsin(np.clip(mu, 0.0, 1.0)))
     good = span_ok & (mu_deg >= options.min_transmission_deg)
     if options.full_turn:
         good &= full
     notes.append(f"{circuit} with a circuit or branch defect, {order} with an order defect, "
                  f"{int((~good).sum())} with a dead point or a transmission angle below {options.min_transmission_deg:g}°")
-    err = pos / size + turn
-    score = mu_deg + 20.0 * full - 100.0 * np.log10(1.0 + err / 1e-6) * (n >= 5)
+    score = mu_deg + 20.0 * full - 100.0 * np.log10(1.0 + (pos / size + turn) / 1e-6) * (n >= 5)
     rank = np.flatnonzero(good)[np.argsort(-score[good])]
-    designs = [Design(F.FOURBAR, x[k], float(sigma[k]), float(direction[k]), theta[k], float(score[k]))
-               for k in rank]
+    return [Design(F.FOURBAR, x[k], float(sigma[k]), float(direction[k]), theta[k], float(score[k])) for k in rank]
+
+
+def synthesize_motion(target: PoseTarget, options: LinkageOptions = LinkageOptions(),
+                      progress: Progress | None = None) -> DesignResult:
+    """Four-bars whose coupler carries joint ``P`` through the poses (see the module docstring).
+    Raises DesignError saying what to relax when no defect-free four-bar is found."""
+    options.check()
+    watch = Stopwatch()
+    notes: list[str] = []
+    designs = _ranked(target, options, notes, progress)
 
     def measure(plan: Plan, d: Design):
         sol = plan.evaluate(d.inputs, order=0, joints=["P"])
@@ -221,9 +227,9 @@ def synthesize_motion(target: PoseTarget, options: LinkageOptions = LinkageOptio
         adev = float(np.max(np.abs(_wrap((rot - rot[0]) - (target.angles_rad - target.angles_rad[0])))))
         return dev, "mm", math.degrees(adev), None
 
-    found, refused = finish(designs, options, size, False, measure, progress=progress)
+    found, refused = finish(designs, options, target.size, False, measure, progress=progress)
     if not found:
-        raise DesignError(f"motion: no defect-free four-bar guides the body through the {n} poses ("
+        raise DesignError(f"motion: no defect-free four-bar guides the body through the {len(target.points)} poses ("
                           + "; ".join(notes) + (f"; built and refused: {refusal_text(refused)}" if refused else "")
                           + "): lower the minimum transmission angle, widen the pivot region or move the poses")
     if refused:
