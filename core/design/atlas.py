@@ -75,7 +75,7 @@ def screen(topology: str, shape: np.ndarray, min_mu_deg: float = MIN_MU_DEG) -> 
     in closed form (the batch solve confirms it)."""
     s = math.sin(math.radians(min_mu_deg))
     with np.errstate(invalid="ignore"):
-        if topology in (F.FOURBAR, F.SIXBAR):
+        if topology in (F.FOURBAR,) + F.SIXBARS:
             a, b, c = shape[:, 0], shape[:, 1], shape[:, 2]
             L = np.sort(np.stack([a, b, c, np.ones_like(a)], axis=1), axis=1)
             grashof = L[:, 0] + L[:, 3] < L[:, 1] + L[:, 2]
@@ -97,20 +97,26 @@ def screen(topology: str, shape: np.ndarray, min_mu_deg: float = MIN_MU_DEG) -> 
 Solver = Callable[[str, np.ndarray, np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]]
 
 
-def sixbar_lengths(shape: np.ndarray, points: np.ndarray, min_mu_deg: float = MIN_MU_DEG
+def sixbar_lengths(shape: np.ndarray, points: np.ndarray, min_mu_deg: float = MIN_MU_DEG, watt: bool = False
                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Drawn six-bars (a, b, c, E in units of b, F, l2/l1, l1's place 0..1) made concrete:
+    """Drawn six-bars (a, b, c, E in units of b — of c on a Watt's rocker —, F, l2/l1, l1's
+    place 0..1) made concrete:
     l1 is chosen where the dyad E–G–F keeps its transmission angle above the minimum at every
     distance |E − F| over the turn (from the law of cosines: d² = l1²(1 + r² − 2r·cos μ)), and
     the coupler points scaled by l1. Returns (shape (n, 9), points, kept (n,) bool)."""
     shape = shape.copy()
-    shape[:, 3] *= shape[:, 1]
-    shape[:, 4] *= shape[:, 1]
+    unit = shape[:, 2] if watt else shape[:, 1]
+    shape[:, 3] *= unit
+    shape[:, 4] *= unit
     th = 2 * math.pi * np.arange(48) / 48
     four = np.stack([np.zeros(len(shape)), np.zeros(len(shape)), np.ones(len(shape)), np.zeros(len(shape)),
                      shape[:, 0], shape[:, 1], shape[:, 2], shape[:, 3], shape[:, 4]], axis=1)
     ev = F.evaluate(F.FOURBAR, four, th[None, :], 1.0)
-    d = np.abs(ev.P - (shape[:, 5] + 1j * shape[:, 6])[:, None])
+    E = ev.P
+    if watt:    # the point on the rocker D C, in its frame
+        C, D = ev.joints["C"], 1.0
+        E = D + (shape[:, 3] + 1j * shape[:, 4])[:, None] * (C - D) / shape[:, 2][:, None]
+    d = np.abs(E - (shape[:, 5] + 1j * shape[:, 6])[:, None])
     dmin, dmax = d.min(axis=1), d.max(axis=1)
     r = shape[:, 7]
     cm = math.cos(math.radians(min_mu_deg + 2.0))
@@ -130,7 +136,7 @@ def closed_form_solver(topology: str, shape: np.ndarray, points: np.ndarray, the
     B = ev.joints["B"]
     if topology == F.INVERTED:
         frame = ev.joints["u"]
-    elif topology == F.SIXBAR:
+    elif topology in F.SIXBARS:
         B = ev.joints["E"]
         frame = (ev.joints["G"] - B) / shape[:, 7][:, None]
     else:
@@ -148,8 +154,8 @@ def solve_chunk(topology: str, index: int, seed: int = 0, chunk: int = CHUNK, mi
     shape, points = _draw(topology, index * chunk, chunk, seed)
     keep = screen(topology, shape, min_mu_deg)
     shape, points = shape[keep], points[keep]
-    if topology == F.SIXBAR:
-        shape, points, keep = sixbar_lengths(shape, points, min_mu_deg)
+    if topology in F.SIXBARS:
+        shape, points, keep = sixbar_lengths(shape, points, min_mu_deg, topology == F.WATT)
         shape, points = shape[keep], points[keep]
     theta = 2 * math.pi * np.arange(SAMPLES) / SAMPLES
     curves, out, sin_mu, good = solve(topology, shape, points, theta)

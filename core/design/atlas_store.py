@@ -64,6 +64,11 @@ SPECS: dict[str, Spec] = {
                    ((0.12, 1.0), (0.3, 3.0), (0.3, 3.0), (-0.5, 1.5), (-1.0, 1.0), (-1.5, 2.5), (-2.0, 2.0),
                     (0.3, 3.0), (0.0, 1.0)),
                    (True, True, True, False, False, False, False, True, False), (-0.5, 1.5), (-1.0, 1.0), "l1"),
+    # the same, E on the rocker (units of c)
+    F.WATT: Spec(("a", "b", "c", "ex", "ey", "Fx", "Fy", "l1", "l2"),
+                 ((0.12, 1.0), (0.3, 3.0), (0.3, 3.0), (-0.5, 1.5), (-1.0, 1.0), (-1.5, 2.5), (-2.0, 2.0),
+                  (0.3, 3.0), (0.0, 1.0)),
+                 (True, True, True, False, False, False, False, True, False), (-0.5, 1.5), (-1.0, 1.0), "l1"),
 }
 
 
@@ -77,7 +82,7 @@ def family_params(topology: str, shape: np.ndarray, points: np.ndarray) -> np.nd
         return np.stack([z, z, one, z, shape[:, 0], shape[:, 1], shape[:, 2], px, py], axis=1)
     if topology == F.SLIDER_CRANK:
         return np.stack([z, z, z, shape[:, 0], one, shape[:, 1], px, py], axis=1)
-    if topology == F.SIXBAR:
+    if topology in F.SIXBARS:
         return np.concatenate([np.stack([z, z, one, z], axis=1), shape, np.stack([px, py], axis=1)], axis=1)
     return np.stack([z, z, one, z, shape[:, 0], shape[:, 1], px, py], axis=1)
 

@@ -94,7 +94,8 @@ def build_linkage(topology: str, x: np.ndarray, sigma: float, theta0: float, ele
         raise GeometryError(f"the {topology} cannot be assembled at the drawn crank angle {math.degrees(theta0):.6g}°")
     j = {k: complex(v[0, 0]) for k, v in ev.joints.items()}
     P = complex(ev.P[0, 0])
-    out_name = "output" if output else {F.SLIDER_CRANK: "slider", F.SIXBAR: "rocker2"}.get(topology, "rocker")
+    out_name = "output" if output else {F.SLIDER_CRANK: "slider", F.SIXBAR: "rocker2", F.WATT: "rocker2"}.get(
+        topology, "rocker")
     R = JointKind.R
     if topology == F.FOURBAR:
         joints = [Joint("A", R, _pt(j["A"])), Joint("B", R, _pt(j["B"])), Joint("C", R, _pt(j["C"])),
@@ -111,10 +112,12 @@ def build_linkage(topology: str, x: np.ndarray, sigma: float, theta0: float, ele
                   Joint("Q", JointKind.P, _pt(j["B"]), _deg(j["u"]))]
         links = [Link("ground", ("A", "C")), Link("crank", ("A", "B")), Link("coupler", ("B", "Q")),
                  Link(out_name, ("C", "Q"))]
-    else:   # Stephenson III: the path point on the link E G of the dyad hung on the connector
+    else:   # six-bars: the path point on the link E G of the dyad hung on the connector (or rocker)
+        watt = topology == F.WATT
         joints = [Joint(k, R, _pt(j[k])) for k in ("A", "B", "C", "D", "E", "F", "G")]
         links = [Link("ground", ("A", "D", "F")), Link("crank", ("A", "B")), Link("coupler", ("E", "G")),
-                 Link("connector", ("B", "C", "E")), Link("rocker", ("D", "C")), Link(out_name, ("F", "G"))]
+                 Link("connector", ("B", "C") if watt else ("B", "C", "E")),
+                 Link("rocker", ("D", "C", "E") if watt else ("D", "C")), Link(out_name, ("F", "G"))]
     if point:
         joints.append(Joint("P", R, _pt(P)))
         links[2] = Link("coupler", links[2].joints + ("P",))
@@ -129,9 +132,10 @@ def kind_text(topology: str, x: np.ndarray) -> str:
         d = math.hypot(x[2] - x[0], x[3] - x[1])
         cls, kind = fourbar_type(d, x[4], x[5], x[6])
         return f"{kind.split(' (')[0]}, {cls.split(' (')[0]}"
-    if topology == F.SIXBAR:
+    if topology in F.SIXBARS:
         d = math.hypot(x[2] - x[0], x[3] - x[1])
-        return "Stephenson III six-bar on a " + fourbar_type(d, x[4], x[5], x[6])[1].split(" (")[0]
+        name = "Watt II" if topology == F.WATT else "Stephenson III"
+        return f"{name} six-bar on a " + fourbar_type(d, x[4], x[5], x[6])[1].split(" (")[0]
     if topology == F.SLIDER_CRANK:
         off = abs(x[3])
         return ("centric" if off <= 1e-9 * max(x[4], x[5]) else f"offset {off:.4g} mm") + \
@@ -187,7 +191,7 @@ def drive_check(linkage: Linkage, topology: str, x: np.ndarray, sigma: float, th
                           plan)
     ev = F.evaluate(topology, x[None], theta[None], sigma)
     name, ref = ("P", ev.P[0]) if "P" in linkage.joint_ids else ("C", ev.joints["C"][0])
-    if topology == F.SIXBAR and name == "C":
+    if topology in F.SIXBARS and name == "C":
         name, ref = "G", ev.joints["G"][0]
     got = sol.position(name)
     gap = np.max(np.abs(got[:, 0] + 1j * got[:, 1] - ref))

@@ -17,6 +17,8 @@ A design is a parameter vector in the world frame (mm, rad), one row per design:
                            the four-bar A B C D with a point E = B + (ex + i·ey)·(C − B)/b on its
                            connector, and a dyad E–G (l1), F–G (l2) to the frame pivot F; the
                            path point P = E + (px + i·py)·(G − E)/l1 on the link E G
+``watt_sixbar``            the same parameters, E = D + (ex + i·ey)·(C − D)/c on the rocker: a
+                           Watt II six-bar (two four-bars in series)
 =========================  =====================================================================
 
 plus an assembly mode σ = ±1 per design (which of the two closures); the six-bar's code
@@ -39,18 +41,22 @@ import numpy as np
 from .dual import Dual
 
 FOURBAR, SLIDER_CRANK, INVERTED, SIXBAR = "fourbar", "slider_crank", "inverted_slider_crank", "sixbar"
+WATT = "watt_sixbar"
+#: the six-bars (the same parameters; E on the connector: Stephenson III; on the rocker: Watt II)
+SIXBARS = (SIXBAR, WATT)
 
 PARAMS: dict[str, tuple[str, ...]] = {
     FOURBAR: ("Ax", "Ay", "Dx", "Dy", "a", "b", "c", "px", "py"),
     SLIDER_CRANK: ("Ax", "Ay", "g", "h", "a", "b", "px", "py"),
     INVERTED: ("Ax", "Ay", "Gx", "Gy", "a", "e", "px", "py"),
     SIXBAR: ("Ax", "Ay", "Dx", "Dy", "a", "b", "c", "ex", "ey", "Fx", "Fy", "l1", "l2", "px", "py"),
+    WATT: ("Ax", "Ay", "Dx", "Dy", "a", "b", "c", "ex", "ey", "Fx", "Fy", "l1", "l2", "px", "py"),
 }
 #: parameters that are lengths which must stay positive
 POSITIVE: dict[str, tuple[str, ...]] = {FOURBAR: ("a", "b", "c"), SLIDER_CRANK: ("a", "b"), INVERTED: ("a",),
-                                        SIXBAR: ("a", "b", "c", "l1", "l2")}
+                                        SIXBAR: ("a", "b", "c", "l1", "l2"), WATT: ("a", "b", "c", "l1", "l2")}
 #: the output's unit per topology (rocker angle or slider position)
-OUTPUT_UNIT = {FOURBAR: "rad", SLIDER_CRANK: "mm", INVERTED: "rad", SIXBAR: "rad"}
+OUTPUT_UNIT = {FOURBAR: "rad", SLIDER_CRANK: "mm", INVERTED: "rad", SIXBAR: "rad", WATT: "rad"}
 TOPOLOGIES = tuple(PARAMS)
 
 
@@ -167,14 +173,14 @@ def _rrr(M, H, li, lj, sigma):
     return M + d * (x + 1j * sigma * h)
 
 
-def _sixbar(p: list, th, sigma: np.ndarray) -> tuple:
+def _sixbar(p: list, th, sigma: np.ndarray, watt: bool = False) -> tuple:
     ax, ay, dx, dy, a, b, c, ex, ey, fx, fy, l1, l2, px, py = p
     s1 = np.sign(sigma)
     s2 = np.where(np.abs(sigma) < 1.5, s1, -s1)
     A, D, Fp = ax + 1j * ay, dx + 1j * dy, fx + 1j * fy
     B = A + a * _expi(th)
     C = _rrr(B, D, b, c, s1)
-    E = B + (ex + 1j * ey) * (C - B) / b
+    E = D + (ex + 1j * ey) * (C - D) / c if watt else B + (ex + 1j * ey) * (C - B) / b
     G = _rrr(E, Fp, l1, l2, s2)
     P = E + (px + 1j * py) * (G - E) / l1
     mu1 = _abs(_im(_conj(C - B) * (C - D)) / (b * c))
@@ -188,7 +194,11 @@ def _sixbar(p: list, th, sigma: np.ndarray) -> tuple:
     return P, _angle(G - Fp), _angle(G - E), sin_mu, joints
 
 
-_EVAL = {FOURBAR: _fourbar, SLIDER_CRANK: _slider_crank, INVERTED: _inverted, SIXBAR: _sixbar}
+def _watt(p: list, th, sigma: np.ndarray) -> tuple:
+    return _sixbar(p, th, sigma, watt=True)
+
+
+_EVAL = {FOURBAR: _fourbar, SLIDER_CRANK: _slider_crank, INVERTED: _inverted, SIXBAR: _sixbar, WATT: _watt}
 
 
 def evaluate(topology: str, x: np.ndarray, theta: np.ndarray, sigma=1.0, grad: bool = False) -> Evaluation:
@@ -232,7 +242,7 @@ def transform(topology: str, x: np.ndarray, s: complex | np.ndarray, t: complex 
     if topology == SLIDER_CRANK:
         x[:, 2] += turn
         x[:, 3:] *= k[:, None]
-    elif topology == SIXBAR:
+    elif topology in SIXBARS:
         for i in (2, 9):
             Z = s * (x[:, i] + 1j * x[:, i + 1]) + t
             x[:, i], x[:, i + 1] = Z.real, Z.imag
@@ -256,7 +266,7 @@ def mirror(topology: str, x: np.ndarray, sigma) -> tuple[np.ndarray, np.ndarray]
         x[:, 2], x[:, 3] = -x[:, 2], -x[:, 3]
         return x, sig
     x[:, 3] = -x[:, 3]
-    if topology == SIXBAR:
+    if topology in SIXBARS:
         x[:, 8], x[:, 10] = -x[:, 8], -x[:, 10]
         return x, -sig
     if topology == INVERTED:
@@ -266,4 +276,4 @@ def mirror(topology: str, x: np.ndarray, sigma) -> tuple[np.ndarray, np.ndarray]
 
 
 __all__ = ["Evaluation", "FOURBAR", "INVERTED", "OUTPUT_UNIT", "PARAMS", "POSITIVE", "SLIDER_CRANK", "TOPOLOGIES",
-           "SIXBAR", "evaluate", "mirror", "transform"]
+           "SIXBAR", "SIXBARS", "WATT", "evaluate", "mirror", "transform"]

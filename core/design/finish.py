@@ -56,7 +56,7 @@ def fixed_pivots(topology: str, x: np.ndarray) -> np.ndarray:
     """(2,) or (1,) the design's pivots on the frame (complex mm)."""
     if topology == F.SLIDER_CRANK:
         return np.array([x[0] + 1j * x[1]])
-    if topology == F.SIXBAR:
+    if topology in F.SIXBARS:
         return np.array([x[0] + 1j * x[1], x[2] + 1j * x[3], x[9] + 1j * x[10]])
     return np.array([x[0] + 1j * x[1], x[2] + 1j * x[3]])
 

@@ -34,14 +34,15 @@ from .path_starts import Start, closed_starts, open_starts
 from .refine import floor_penalty, levenberg_marquardt
 from .targets import DesignError, PathTarget, Progress, report
 
-TOPOLOGIES = (F.FOURBAR, F.SLIDER_CRANK, F.INVERTED, F.SIXBAR)
-CHOICES = TOPOLOGIES + ("any",)
+TOPOLOGIES = (F.FOURBAR, F.SLIDER_CRANK, F.INVERTED, F.SIXBAR, F.WATT)
+#: what --topology takes: "sixbar" means both six-bars (Stephenson III and Watt II)
+CHOICES = (F.FOURBAR, F.SLIDER_CRANK, F.INVERTED, F.SIXBAR, "any")
 #: starts refined per topology
 STARTS = 40
 #: samples of the transmission-angle penalty over the span
 PENALTY_SAMPLES = 72
 #: Levenberg–Marquardt iterations of the refinement (the six-bar's 15 parameters converge slower)
-ITERATIONS = {F.SIXBAR: 200}
+ITERATIONS = {F.SIXBAR: 200, F.WATT: 200}
 DEFAULT_ITERATIONS = 80
 #: weight of the transmission-angle penalty (per unit of sin μ below the floor, per sample)
 MU_WEIGHT = 2.0
@@ -156,6 +157,8 @@ def _fits(topology: str, options: LinkageOptions, size: float, centre: complex):
 def _topologies(topology: str) -> tuple[str, ...]:
     if topology == "any":
         return TOPOLOGIES
+    if topology == F.SIXBAR:
+        return F.SIXBARS
     if topology not in TOPOLOGIES:
         raise DesignError(f"unknown topology {topology!r}; choose one of {', '.join(CHOICES)}")
     return (topology,)

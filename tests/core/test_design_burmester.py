@@ -122,27 +122,39 @@ def test_pose_target_refusals():
     ("fourbar", [3, 4, 160, 10, 40, 140, 120, 30, 20.0]),
     ("slider_crank", [1, 2, 0.3, 20, 40, 150, 30, -10.0]),
     ("inverted_slider_crank", [0, 0, 100, 0, 35, 10, 20, 15.0]),
+    ("sixbar", [0, 0, 100, 0, 13.35, 49.61, 84.37, 65.82, 35.68, 150.03, -51.48, 241.37, 129.35, -34.70, -210.73]),
+    ("watt_sixbar", [0, 0, 100, 0, 35, 110, 90, 40, 30, 130, 120, 80, 70, 30, -20.0]),
 ])
 @pytest.mark.parametrize("sigma", [1.0, -1.0])
 def test_families_agree_with_the_solver(topology, x, sigma):
     x = np.array(x)
+    if topology in ("sixbar", "watt_sixbar"):
+        sigma = 1.0 if sigma > 0 else 2.0    # the six-bars' code: both groups in one mode, or opposite
     th0 = 0.7
     lk = build_linkage(topology, x, sigma, th0, "c")
     sol = compile_plan(lk).sweep(360, order=1)
+    assert sol.valid.all()
     ev = F.evaluate(topology, x[None], sol.input[None], sigma, grad=True)
     p = sol.position("P")
-    assert np.max(np.abs(p[:, 0] + 1j * p[:, 1] - ev.P[0])) < 1e-12 * 200
+    assert np.max(np.abs(p[:, 0] + 1j * p[:, 1] - ev.P[0])) < 1e-12 * 400
     v = sol.velocity("P") / lk.driver.omega          # dP/dθ from the kernels
-    assert np.max(np.abs(v[:, 0] + 1j * v[:, 1] - ev.dP[0, :, -1])) < 1e-10 * 200
+    assert np.max(np.abs(v[:, 0] + 1j * v[:, 1] - ev.dP[0, :, -1])) < 1e-10 * 400
     rot = sol.angle("coupler")
     turn = np.remainder((ev.cpl[0] - ev.cpl[0, 0]) - (rot - rot[0]) + math.pi, 2 * math.pi) - math.pi
     assert np.max(np.abs(turn)) < 1e-12
+    xm, sm = F.mirror(topology, x[None], np.array([sigma]))      # the mirror image at −θ
+    assert np.max(np.abs(F.evaluate(topology, xm, -sol.input[None], sm).P[0] - np.conj(ev.P[0]))) < 1e-12 * 400
+    s, t = 1.3 * np.exp(0.4j), 2 + 1j                             # a similarity at θ + arg s
+    moved = F.evaluate(topology, F.transform(topology, x[None], s, t), sol.input[None] + 0.4, sigma).P[0]
+    assert np.max(np.abs(moved - (s * ev.P[0] + t))) < 1e-12 * 600
 
 
 @pytest.mark.parametrize("topology,x", [
     ("fourbar", [3, 4, 160, 10, 40, 140, 120, 30, 20.0]),
     ("slider_crank", [1, 2, 0.3, 20, 40, 150, 30, -10.0]),
     ("inverted_slider_crank", [0, 0, 100, 0, 35, 10, 20, 15.0]),
+    ("sixbar", [0, 0, 100, 0, 13.35, 49.61, 84.37, 65.82, 35.68, 150.03, -51.48, 241.37, 129.35, -34.70, -210.73]),
+    ("watt_sixbar", [0, 0, 100, 0, 35, 110, 90, 40, 30, 130, 120, 80, 70, 30, -20.0]),
 ])
 def test_family_derivatives_match_central_differences(topology, x):
     x = np.array([x])

@@ -87,21 +87,23 @@ def test_reachable_closed_target_is_recovered(atlas_cache, topology):
         assert c.deviation >= np.max(_distance_to_curve(c.linkage, pts)) - 1e-9 * t.size
 
 
-def test_reachable_sixbar_is_recovered(atlas_cache):
+@pytest.mark.parametrize("kind", ["sixbar", "watt_sixbar"])
+def test_reachable_sixbar_is_recovered(atlas_cache, kind):
     from mechsketch.core.design.atlas import load_atlas
 
-    atlas = load_atlas("sixbar")
-    x = F.transform("sixbar", atlas.params(np.array([2 * 1234 % (2 * len(atlas))])), 100.0, 0j)[0]
+    atlas = load_atlas(kind)
+    x = F.transform(kind, atlas.params(np.array([2 * 1234 % (2 * len(atlas))])), 100.0, 0j)[0]
     th = np.linspace(0.5, 0.5 + 2 * math.pi, 40, endpoint=False)
-    P = 0.7 * np.exp(1.2j) * F.evaluate("sixbar", x[None], th[None], 1.0).P[0] + (300 - 50j)
+    P = 0.7 * np.exp(1.2j) * F.evaluate(kind, x[None], th[None], 1.0).P[0] + (300 - 50j)
     pts = np.stack([P.real, P.imag], axis=1)
     t = path_target(pts)
-    res = synthesize_path(t, LinkageOptions(candidates=1, min_transmission_deg=15, max_size=12), "sixbar", starts=8)
+    res = synthesize_path(t, LinkageOptions(candidates=1, min_transmission_deg=15, max_size=12), kind, starts=8)
     best = res.candidates[0]
     assert best.deviation <= 1e-6 * t.size
     assert np.max(_distance_to_curve(best.linkage, pts)) <= 1e-6 * t.size
     _check(best, True, 15)
     assert {"A", "D", "F"} <= set(best.linkage.link("ground").joints)
+    assert ("E" in best.linkage.link("rocker").joints) == (kind == "watt_sixbar")
 
 
 def test_any_topology_finds_the_exact_one_first(atlas_cache):
