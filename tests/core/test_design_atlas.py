@@ -118,7 +118,8 @@ def test_atlas_is_stored_and_versioned(atlas_cache, tmp_path, monkeypatch):
 
 def test_dask_builds_the_same_atlas():
     distributed = pytest.importorskip("distributed")
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None) as cl, \
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None,
+                                  protocol="inproc") as cl, \
             distributed.Client(cl) as client:
         remote = build_atlas("slider_crank", 2000, client=client, chunk=4096)
     local = build_atlas("slider_crank", 2000, chunk=4096)
