@@ -7,7 +7,7 @@ damping λ: a step that lowers its cost is taken and λ shrinks, else λ grows a
 retried. A residual that is NaN (a design that cannot be assembled) counts as an infinite cost,
 so a step never leaves the assemblable region. Bounds (``lower``, ``upper``: (U,) or (D, U)) clip
 each step (a projected method). Stops per problem when the cost stops falling
-(relative 1e-15) or the step is below ``xtol`` relative to the unknowns.
+(relative 1e-12) or the step is below ``xtol`` relative to the unknowns.
 """
 from __future__ import annotations
 
@@ -72,7 +72,7 @@ def levenberg_marquardt(fun: Fun, x0: np.ndarray, iterations: int = 60, xtol: fl
         lam[rej] = lam[rej] * 4.0
         small = np.max(np.abs(step), axis=1) <= xtol * (1.0 + np.max(np.abs(x[idx]), axis=1))
         done = np.zeros(x.shape[0], dtype=bool)
-        done[acc[rel < 1e-15]] = True
+        done[acc[rel < 1e-12]] = True
         done[idx[small]] = True
         done[rej[lam[rej] > 1e12]] = True
         done |= cost <= 1e-32

@@ -125,3 +125,20 @@ def test_progress_and_cancel():
     with pytest.raises(Cancelled):
         synthesize_motion(t, LinkageOptions(candidates=2), progress)
     assert seen == sorted(seen) and seen[0] == 0.0
+
+
+@pytest.mark.parametrize("poses", [
+    [[0, 0, 0], [30, 10, 0.001], [50, 35, 0.002], [55, 70, 0.004]],            # hardly turns: pivots far away
+    [[0, 0, 5], [10, 10, 5], [20, 20.001, 5], [30, 30, 5.0]],                   # nearly a translation on a line
+    [[0, 0, 0], [30, 10, 20], [30, 10.0001, 20.0001], [55, 70, 80]],            # two poses nearly repeated
+    [[0, 0, 0], [100, 0, 90], [100, 100, 180], [0, 100.000001, 270]],           # nearly one rotation
+])
+def test_near_degenerate_poses_are_exact_or_refused_clearly(poses):
+    t = pose_target(poses)
+    try:
+        res = synthesize_motion(t, LinkageOptions(candidates=1))
+    except DesignError as exc:
+        assert "widen the pivot region" in str(exc) or "lower the minimum transmission angle" in str(exc)
+        return
+    for c in res.candidates:
+        _independent_check(c, t, 1e-9, 30)
