@@ -452,7 +452,9 @@ class MainWindow(QMainWindow):
         preferred = PartOptions(min_web=self.preferences.min_web or None)
         min_webs = {e.id: min_web_of(e, preferred) for e in elements}
         title = f"Export {fmt.upper()}"
-        req = self.dialogs.export_request(title, choices, target.id, fmt, min_webs)
+        kinds = {e.id: e.type for e in elements}
+        sizes = {k: getattr(self.preferences, k) for k in ("boss_radius", "bore_diameter", "link_width")}
+        req = self.dialogs.export_request(title, choices, target.id, fmt, min_webs, kinds, sizes)
         if req is None:
             return False
         req = replace(req, options=part_options(self.preferences, req.options))   # preferred plate sizes

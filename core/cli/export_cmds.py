@@ -3,9 +3,12 @@ that ``mechsketch validate`` runs as its manufacturability warnings (the same pa
 check: a scene whose validation has no warning exports; ``validate --strict`` makes them errors).
 
     mechsketch export SCENE [--element ID] (--dxf PATH | --svg PATH) [--layout assembled|apart]
-                      [--parts P,...] [--split] [--arcs bulge|entities] [--tolerance MM]
-                      [--min-web MM] [--boss-radius MM] [--bore-diameter MM] [--link-width MM]
-                      [--frame plate|drill] [--depth MM]
+                      [--parts P,...] [--split] [--arcs bulge|entities] [--annotate] [--kerf MM]
+                      [--tolerance MM] [--min-web MM] [--boss-radius MM] [--bore-diameter MM]
+                      [--link-width MM] [--frame plate|drill] [--depth MM]
+
+An option that does not apply to the element (``--depth`` for a Geneva drive, ``--arcs`` for an
+SVG) is refused, not ignored, and so is a size that is not a positive number.
 
 The part builders (shapely) and the writers (ezdxf) are imported by the functions that use them:
 building the parser, which every command does, imports neither.
@@ -32,7 +35,8 @@ DEFAULT_TOLERANCE = 0.001
 #: export option (PartOptions field) -> its flag here: how messages of ``export`` name them
 EXPORT_FLAGS = (("boss_radius", "--boss-radius"), ("bore_diameter", "--bore-diameter"),
                 ("link_width", "--link-width"), ("min_web", "--min-web"), ("tolerance", "--tolerance"),
-                ("depth", "--depth"), ("frame", "--frame"))
+                ("depth", "--depth"), ("frame", "--frame"), ("kerf", "--kerf"), ("arcs_entities", "--arcs entities"),
+                ("annotate", "--annotate"))
 
 
 def export_vocabulary() -> Vocabulary:
@@ -62,28 +66,66 @@ def add_export_parser(sub) -> argparse.ArgumentParser:
                    help="apart: parts side by side, named (default); assembled: in the mechanism's pose")
     e.add_argument("--parts", metavar="P,...", help="only these parts (names as in the report)")
     e.add_argument("--split", action="store_true", help="one file per part: PATH_NAME.ext")
-    e.add_argument("--arcs", choices=ARC_STYLES, default="bulge",
-                   help="DXF: bulge polylines (default) or LINE/ARC entities for older readers")
-    e.add_argument("--tolerance", type=float, default=DEFAULT_TOLERANCE, metavar="MM",
-                   help="largest deviation of fitted curves (rolling profiles, coupler curves)")
+    e.add_argument("--arcs", choices=ARC_STYLES, default=None,
+                   help="DXF: bulge polylines (default) or LINE/ARC entities for older CAM readers")
+    e.add_argument("--annotate", action="store_true",
+                   help="add part names and traced curves on NOTES_* layers (default: cut geometry only)")
+    e.add_argument("--kerf", type=float, default=None, metavar="MM",
+                   help="write the tool paths of a cut this wide: outlines kerf/2 outside, holes kerf/2 inside")
+    e.add_argument("--tolerance", type=float, default=None, metavar="MM",
+                   help=f"largest deviation of fitted curves (rolling profiles, coupler curves; default {DEFAULT_TOLERANCE:g})")
     e.add_argument("--min-web", dest="min_web", type=float, metavar="MM",
                    help="thinnest web every part must keep (default: the element's drawing.min_web or 1)")
     e.add_argument("--boss-radius", dest="boss_radius", type=float, metavar="MM", help="linkage plates")
     e.add_argument("--bore-diameter", dest="bore_diameter", type=float, metavar="MM", help="linkage bores")
     e.add_argument("--link-width", dest="link_width", type=float, metavar="MM", help="binary link bar width")
-    e.add_argument("--frame", choices=("plate", "drill"), default="plate",
+    e.add_argument("--frame", choices=("plate", "drill"), default=None,
                    help="a linkage's frame as a plate or as the drilling pattern of its pivots")
     e.add_argument("--depth", type=float, metavar="MM", help="rolling-lever frame and slider plates")
     return e
+
+
+#: export option (PartOptions field) -> its flag, for the options that only some elements take
+ELEMENT_FLAGS = {"boss_radius": "--boss-radius", "bore_diameter": "--bore-diameter", "link_width": "--link-width",
+                 "frame": "--frame", "depth": "--depth", "tolerance": "--tolerance"}
 
 
 def options_of(args: argparse.Namespace) -> PartOptions:
     """The part options of parsed ``export`` arguments."""
     from ..analyses.parts.build import PartOptions
 
-    return PartOptions(tolerance=args.tolerance, min_web=args.min_web, boss_radius=args.boss_radius,
-                       bore_diameter=args.bore_diameter, link_width=args.link_width, frame=args.frame,
-                       depth=args.depth, vocabulary=export_vocabulary())
+    return PartOptions(tolerance=args.tolerance if args.tolerance is not None else DEFAULT_TOLERANCE,
+                       min_web=args.min_web, boss_radius=args.boss_radius, bore_diameter=args.bore_diameter,
+                       link_width=args.link_width, frame=args.frame or "plate", depth=args.depth,
+                       vocabulary=export_vocabulary())
+
+
+def refuse_what_does_not_apply(el, args: argparse.Namespace) -> None:
+    """:class:`RequestError` naming every option given that the element's parts or the format do
+    not use, and every size that is not a positive number (none is ignored or clamped)."""
+    import math
+
+    from ..analyses.parts.build import applicable_options
+
+    fits = applicable_options(el)
+    wrong = [flag for field, flag in ELEMENT_FLAGS.items() if getattr(args, field) is not None and field not in fits]
+    if wrong:
+        what = f"element {el.id!r} ({el.type})"
+        hint = (" (a linkage's coupler curves are fitted only where it has a joint on one moving link)"
+                if "--tolerance" in wrong and el.type == "linkage" else "")
+        raise RequestError(f"{', '.join(wrong)} do{'es' if len(wrong) == 1 else ''} not apply to {what}{hint}; "
+                           f"it takes {', '.join(sorted(ELEMENT_FLAGS[f] for f in fits if f in ELEMENT_FLAGS)) or 'none of the plate options'}")
+    if args.arcs is not None and args.dxf is None:
+        raise RequestError("--arcs applies to DXF only (an SVG writes its arcs as SVG arcs)")
+    if args.tolerance is not None and not args.annotate and el.type == "linkage":
+        raise RequestError("--tolerance applies to the traced coupler curves, which are written only with --annotate")
+    for flag, value, zero_ok in (("--tolerance", args.tolerance, False), ("--min-web", args.min_web, True),
+                                 ("--kerf", args.kerf, True), ("--boss-radius", args.boss_radius, False),
+                                 ("--bore-diameter", args.bore_diameter, True), ("--link-width", args.link_width, False),
+                                 ("--depth", args.depth, False)):
+        if value is not None and not (math.isfinite(value) and (value >= 0 if zero_ok else value > 0)):
+            raise RequestError(f"{flag} must be a {'non-negative' if zero_ok else 'positive'} number of millimetres; "
+                               f"got {value:g}")
 
 
 def _plan(ws: Workspace, el):
@@ -106,12 +148,13 @@ def run_export(ws: Workspace, args: argparse.Namespace) -> str:
             print(f"note: using element {el.id!r} (choose with --element ID)", file=sys.stderr)
     else:
         raise RequestError("the scene has no element to export")
+    refuse_what_does_not_apply(el, args)
     opts = options_of(args)
     names = [n.strip() for n in args.parts.split(",") if n.strip()] if args.parts else None
     ps = element_parts(el, opts, _plan(ws, el))
     fmt, path = ("dxf", args.dxf) if args.dxf is not None else ("svg", args.svg)
-    return export_parts(ps, path, fmt, args.layout, names, args.split, args.arcs, min_web_of(el, opts),
-                        opts.vocabulary).report
+    return export_parts(ps, path, fmt, args.layout, names, args.split, args.arcs or "bulge", min_web_of(el, opts),
+                        opts.vocabulary, annotate=args.annotate, kerf=args.kerf or 0.0).report
 
 
 def drawing_warnings(ws: Workspace) -> list[Problem]:

@@ -58,7 +58,7 @@ def z6(tmp_path_factory):
     ps = geneva_parts(el)
     out = {}
     for name, kw in {"assembled": dict(layout="assembled"), "apart": dict(layout="apart"),
-                     "entities": dict(layout="apart", arcs="entities"), "svg": dict(fmt="svg")}.items():
+                     "entities": dict(layout="apart", arcs="entities", annotate=True), "svg": dict(fmt="svg")}.items():
         path = folder / f"z6_{name}.{'svg' if name == 'svg' else 'dxf'}"
         out[name] = (path, export_parts(ps, path, **kw))
     return el, ps, out
@@ -155,7 +155,10 @@ def test_apart_layout_names_each_part_and_nothing_overlaps(z6):
             for j in range(i + 1, len(polys)):
                 assert polys[i].distance(polys[j]) >= 3.0 - 1e-9
         texts = {e.dxf.text for e in doc.modelspace().query("TEXT")}
-        assert texts == set(PARTS) and {e.dxf.layer for e in doc.modelspace().query("TEXT")} == {"LABELS"}
+        if name == "apart":       # a cut file by default: no labels
+            assert not texts
+        else:                     # annotated: the names on a NOTES_ layer
+            assert texts == set(PARTS) and {e.dxf.layer for e in doc.modelspace().query("TEXT")} == {"NOTES_LABELS"}
     kinds = {e.dxftype() for e in ezdxf.readfile(out["entities"][0]).modelspace()}
     assert kinds == {"LINE", "ARC", "CIRCLE", "TEXT"}
 

@@ -122,9 +122,9 @@ def test_coupler_curve_is_within_its_tolerance_of_the_solved_path(tmp_path):
     ps = linkage_parts(lk, plan, LinkageStyle(tolerance=0.005))
     (curve,) = ps.curves
     assert curve.name == "E" and curve.closed and curve.deviation <= 0.005
-    export_parts(ps, tmp_path / "c.dxf", layout="assembled")
+    export_parts(ps, tmp_path / "c.dxf", layout="assembled", annotate=True)
     doc = ezdxf.readfile(tmp_path / "c.dxf")
-    (pl,) = doc.modelspace().query('LWPOLYLINE[layer=="trace_E"]')
+    (pl,) = doc.modelspace().query('LWPOLYLINE[layer=="NOTES_TRACE_E"]')
     assert pl.closed
     from parts_readback import _lwpolyline_ring  # the same decoding as the parts
     ring = shapely.LinearRing(_lwpolyline_ring(pl))

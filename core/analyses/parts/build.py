@@ -5,6 +5,7 @@ The CLI's ``export`` and ``validate`` and the GUI's export dialog all call it wi
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 from ...errors import GeometryError
@@ -84,7 +85,7 @@ def linkage_style(element: Linkage, options: PartOptions) -> LinkageStyle:
             names.append((field, f"drawing.{key}"))
         else:
             names.append((field, name_of(f"drawing.{key}", vocab)))
-    return LinkageStyle(**sizes, frame=options.frame, tolerance=max(options.tolerance, 1e-4), names=tuple(names))
+    return LinkageStyle(**sizes, frame=options.frame, tolerance=options.tolerance, names=tuple(names))
 
 
 def element_parts(element, options: PartOptions = PartOptions(), plan: Plan | None = None) -> PartSet:
@@ -94,6 +95,7 @@ def element_parts(element, options: PartOptions = PartOptions(), plan: Plan | No
     if isinstance(element, Geneva):
         return geneva_parts(element)
     if isinstance(element, Linkage):
+        check_tolerance_option(options.tolerance, options.vocabulary)
         return linkage_parts(element, plan if plan is not None else compile_plan(element),
                              linkage_style(element, options), min_web_of(element, options))
     if isinstance(element, RollingLever):
@@ -104,6 +106,32 @@ def element_parts(element, options: PartOptions = PartOptions(), plan: Plan | No
         return gear_parts(element)
     raise GeometryError(f"element {getattr(element, 'id', '?')!r} of type {getattr(element, 'type', '?')!r} "
                         "has no parts to export")
+
+
+#: part options every element takes
+COMMON_OPTIONS = frozenset({"min_web"})
+
+
+def applicable_options(element) -> frozenset[str]:
+    """The :class:`PartOptions` fields the parts of ``element`` use; a front end refuses the
+    others when the user sets them (issue 23: options that do not apply are refused, not ignored).
+    ``tolerance`` applies where curves are fitted: a rolling lever's profiles, a linkage's traced
+    coupler points."""
+    if isinstance(element, Linkage):
+        traced = any(len(element.links_of(j.id)) == 1 and element.links_of(j.id)[0] != element.ground
+                     for j in element.joints)
+        return COMMON_OPTIONS | {"boss_radius", "bore_diameter", "link_width", "frame"} | ({"tolerance"} if traced else set())
+    if isinstance(element, RollingLever):
+        return COMMON_OPTIONS | {"depth", "tolerance"}
+    return COMMON_OPTIONS
+
+
+def check_tolerance_option(tolerance: float, vocab: Vocabulary = API) -> None:
+    """Refuse a curve tolerance that is not a positive number of millimetres (0 is refused, not
+    clamped)."""
+    if not (math.isfinite(tolerance) and tolerance > 0):
+        raise GeometryError(f"{name_of('option:tolerance', vocab)} must be a positive number of millimetres "
+                            f"(the largest deviation of a fitted curve); got {tolerance:g}")
 
 
 def part_names(element) -> tuple[str, ...]:

@@ -1,0 +1,146 @@
+"""Every export of every example in every mode, read back by three readers (issue 23, done-when):
+ezdxf (audited), GDAL/OGR (per layer: the area the contours bound and their length within 1e-6 of
+the export report) and, for every DXF, a second parser of our own (``dxf_tags``: group codes read
+line by line; lengths and areas from the entities' own numbers), for SVG an exact parser of the
+path data. Modes: DXF with bulges, DXF with LINE/ARC entities, SVG; apart and assembled; cut
+geometry only and ``--annotate``; and the tool paths of a kerf. Also: no TEXT and no NOTES_ layer in
+a default cut file; no bulge over 1 (GDAL misreads them); no SVG arc over 90°; no entity shorter
+than 1e-7 mm."""
+from __future__ import annotations
+
+import math
+import re
+
+import ezdxf
+import pytest
+import shapely
+
+from mechsketch import resources
+from mechsketch.core import load_scene
+from mechsketch.core.analyses.parts.build import PartOptions, element_parts
+from mechsketch.core.io.export_parts import export_parts
+
+import dxf_tags
+from ogr_readback import ogr_layers
+from parts_readback import dxf_parts, svg_max_sweep, svg_measures, svg_parts
+
+EXAMPLES = sorted(p.stem for p in resources.example_path("geneva_z6").parent.glob("*.json"))
+MODES = [(fmt, arcs, layout, annotate) for fmt, arcs in (("dxf", "bulge"), ("dxf", "entities"), ("svg", "bulge"))
+         for layout in ("apart", "assembled") for annotate in (False, True)]
+REL = 1e-6
+PART_LINE = re.compile(r"^  (.+?): area (\S+) mm², (?:as written|tool paths \(kerf \S+ mm\)): cut length (\S+) mm "
+                       r"enclosing (\S+) mm²", re.M)
+CURVE_LINE = re.compile(r"^  curve (\S+): .*?, length (\S+) mm,", re.M)
+
+
+def report_figures(report: str) -> dict[str, tuple[float, float]]:
+    """Per part, (cut length mm, enclosed area mm²) as the report states them."""
+    return {m[1]: (float(m[3]), float(m[4])) for m in PART_LINE.finditer(report)}
+
+
+@pytest.fixture(scope="module")
+def built():
+    cache = {}
+
+    def parts(name):
+        if name not in cache:
+            scene = load_scene(resources.example_path(name))
+            el = next(e for e in scene.elements if e.type != "underlay")
+            cache[name] = element_parts(el, PartOptions())
+        return cache[name]
+    return parts
+
+
+def close(a: float, b: float, rel: float = REL) -> bool:
+    """Within ``rel`` of each other, or of the report's last printed digit (1e-6)."""
+    return abs(a - b) <= rel * max(abs(a), abs(b), 1.0) + 1e-6
+
+
+def check_dxf(path, figures: dict, annotate: bool, arcs: str, n_labels: int, curves: dict) -> None:
+    doc, _ = dxf_parts(path)                          # ezdxf: audited, every part a valid polygon
+    layers = {e.dxf.layer for e in doc.modelspace()}
+    notes = {ly for ly in layers if ly.startswith("NOTES_")}
+    assert (len(doc.modelspace().query("TEXT")) > 0) == (annotate and n_labels > 0)
+    ogr = ogr_layers(path)                            # GDAL/OGR
+    if not annotate:
+        assert not notes and sum(v[3] for v in ogr.values()) == 0
+    assert layers - notes == set(figures)
+    for name, (length, area) in figures.items():
+        got_area, got_length, _, _ = ogr[name]
+        assert close(got_length, length), (name, got_length, length)
+        assert close(got_area, area), (name, got_area, area)
+    for name, length in curves.items():
+        if annotate:
+            assert close(ogr[f"NOTES_TRACE_{name}"][1], length), name
+    ents = dxf_tags.entities(path)                    # our own group-code reader
+    by_layer: dict[str, list] = {}
+    for e in ents:
+        if e.kind == "TEXT":
+            assert annotate and e.layer == "NOTES_LABELS"
+            continue
+        length, _ = dxf_tags.measure(e)
+        assert length >= 1e-7, (e.kind, e.layer)
+        if e.kind == "LWPOLYLINE":
+            assert all(abs(b) <= 1 + 1e-12 for _, _, b in dxf_tags.lwpolyline(e)[0])
+        assert (e.kind in ("LINE", "ARC")) == (arcs == "entities" and e.kind != "CIRCLE") or e.kind == "CIRCLE"
+        by_layer.setdefault(e.layer, []).append(e)
+    for name, (length, area) in figures.items():
+        pieces = by_layer[name]
+        assert close(sum(dxf_tags.measure(e)[0] for e in pieces), length, 1e-9), name
+        whole = [e for e in pieces if e.kind in ("CIRCLE", "LWPOLYLINE")]
+        loose = [e for e in pieces if e.kind in ("LINE", "ARC")]
+        areas = sorted([dxf_tags.measure(e)[1] for e in whole]
+                       + [dxf_tags.ring_area(r) for r in dxf_tags.rings_of_pieces(loose)], reverse=True)
+        bound = areas[0] - sum(areas[1:]) if area < areas[0] * (1 - 1e-9) or len(areas) == 1 else sum(areas)
+        assert close(bound, area, 1e-9), (name, bound, area)
+
+
+def check_svg(path, figures: dict, annotate: bool, notes: bool) -> None:
+    root, polys = svg_parts(path)
+    assert set(polys) == set(figures) and all(p.is_valid for p in polys.values())
+    text = path.read_text()
+    assert ('id="notes-' in text) == (annotate and notes)
+    if not annotate:
+        assert "<text" not in text and "notes-" not in text
+    for name, (length, area) in svg_measures(path).items():
+        assert close(length, figures[name][0]) and close(area, figures[name][1]), name   # 10 digits written
+    assert svg_max_sweep(path) <= math.pi / 2 + 1e-6   # 90° (written to 10 digits)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", EXAMPLES)
+def test_every_export_of_every_example_reads_back(tmp_path, built, name):
+    ps = built(name)
+    for fmt, arcs, layout, annotate in MODES:
+        path = tmp_path / f"{name}_{arcs}_{layout}_{int(annotate)}.{fmt}"
+        exp = export_parts(ps, path, fmt, layout, arcs=arcs, annotate=annotate,
+                           min_web=ps.parts and PartOptions().min_web or 1.0)
+        figures = report_figures(exp.report)
+        assert set(figures) == set(ps.names)
+        curves = {m[1]: float(m[2]) for m in CURVE_LINE.finditer(exp.report)}
+        n_labels = sum(len(s.labels) for s in exp.sheets)
+        if fmt == "dxf":
+            check_dxf(path, figures, annotate, arcs, n_labels, curves)
+        else:
+            check_svg(path, figures, annotate, bool(n_labels or curves))
+
+
+@pytest.mark.parametrize("name", ["geneva_z4", "geneva_z8", "sixbar_moving_guide", "rolling_lever_press",
+                                  "gears_elliptic"])
+def test_kerf_tool_paths_read_back_and_are_valid(tmp_path, built, name):
+    ps = built(name)
+    for arcs in ("bulge", "entities"):
+        path = tmp_path / f"{name}_{arcs}.dxf"
+        exp = export_parts(ps, path, "dxf", "apart", arcs=arcs, kerf=0.2)
+        figures = report_figures(exp.report)
+        assert "tool paths (kerf 0.2 mm)" in exp.report
+        _, polys = dxf_parts(path)
+        assert all(p.is_valid for p in polys.values())
+        check_dxf(path, figures, False, arcs, 0, {})
+        for p in ps.parts:   # every path lies kerf/2 outside the outline, inside each hole
+            placed = next(q for s in exp.sheets for q in s.parts if q.name == p.name)
+            if p.outer is not None:
+                grown = abs(placed.outer.area()) - abs(p.outer.area())
+                assert grown == pytest.approx(0.1 * p.outer.length + math.pi * 0.01, rel=0.05, abs=0.05 * 0.1 * p.outer.length)
+            assert shapely.Polygon(placed.holes[0].polyline(1e-4)).area < shapely.Polygon(p.holes[0].polyline(1e-4)).area \
+                if p.holes else True
