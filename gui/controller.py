@@ -23,7 +23,8 @@ from mechsketch.core.model.edits import Edit
 from mechsketch.core.model.linkage import Linkage
 from mechsketch.core.model.scene import Scene
 from mechsketch.core.solver.diagnostics import Diagnostics
-from mechsketch.core.workspace import Change, ElementResult, GenevaResult, LinkageResult, RollingResult, Workspace
+from mechsketch.core.workspace import (Change, ElementResult, GearResult, GenevaResult, LinkageResult, RollingResult,
+                                      Workspace)
 
 from .frames import map_frame
 from .qtsafe import qt_safe
@@ -125,7 +126,7 @@ class SceneController(QObject):
     def element_result(self, element_id: str) -> GenevaResult | RollingResult | None:
         """The result of a Geneva drive or rolling lever (None for a linkage or an unknown id)."""
         res = self.any_result(element_id)
-        return res if isinstance(res, (GenevaResult, RollingResult)) else None
+        return res if isinstance(res, (GenevaResult, RollingResult, GearResult)) else None
 
     def element_results(self) -> dict[str, GenevaResult | RollingResult]:
         """Results of every Geneva drive and rolling lever, in scene order."""

@@ -84,7 +84,7 @@ class ExportTask(QRunnable):
                 return
             self.signals.progress.emit(f"checking and writing {Path(self.path).name}…")
             exp = export_parts(ps, self.path, req.fmt, req.layout, req.parts, req.split, req.arcs,
-                               parts_build.min_web_of(el, req.options))
+                               parts_build.min_web_of(el, req.options), req.options.vocabulary)
         except (MechsketchError, OSError, ValueError) as exc:
             self.signals.failed.emit(str(exc))
             return

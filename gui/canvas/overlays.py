@@ -407,6 +407,8 @@ class OverlaySet:
                 now = float(res.wheel_rotation[k])
                 rec["loaded"] = [tuple(float(v) for v in wc + _rot(_rot(local, 2 * math.pi * i / el.slots), now))
                                  for i in range(el.slots)]
+                p_text = (f"p max {con.pressure_max:.0f} MPa" if math.isfinite(con.pressure_max)
+                          else "p max not computed (outside the contact model's validity range)")
                 rec["loaded_text"] = (f"most loaded: Rn max {rn_max:.0f} N at φ {math.degrees(con.phi_Rn_max):.1f}°, "
-                                      f"p max {con.pressure_max:.0f} MPa")
+                                      + p_text)
         return rec

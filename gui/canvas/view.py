@@ -35,6 +35,7 @@ from ..selection import ELEMENT
 from ..frames import map_frame
 from .events import XY, CanvasEvent, Hit
 from .extras import CanvasExtras
+from .gear_items import element_item as gear_item
 from .geneva_items import GenevaItem
 from .grid import (BACKGROUND, GRID_AXES, GRID_MAJOR, GRID_MIN_PX, GRID_MINOR,  # noqa: F401 - re-exported
                    grid_steps, paint_grid, paint_scale_bar)
@@ -43,6 +44,7 @@ from .rolling_items import RollingItem
 from .toolbox import ToolBox
 from .typed_input import TypedBox
 from .tools import ToolContext, delete_selection
+from .underlay_item import UnderlayLayer   # underlays (issue 22 item 6)
 from .view_input import PICK_PX, CanvasInput  # noqa: F401 - PICK_PX re-exported
 from ..qtsafe import qt_safe
 
@@ -109,6 +111,7 @@ class CanvasView(QGraphicsView):
         self._scene.setSceneRect(-WORLD, -WORLD, 2 * WORLD, 2 * WORLD)
         self._scene.setItemIndexMethod(QGraphicsScene.ItemIndexMethod.NoIndex)
         self.setScene(self._scene)
+        self.underlays = UnderlayLayer(self._scene)   # drawings and pictures under everything, snapped to
         self._items: dict[str, _ElementItems] = {}
         #: Geneva drives and rolling levers: one item each, rebuilt when their result changes
         self.element_items: dict[str, GenevaItem | RollingItem] = {}
@@ -248,6 +251,9 @@ class CanvasView(QGraphicsView):
             return raw
         if hit is not None and hit.kind == "joint" and not self.toolbox.tool.busy:
             return self.ctx.at(hit.element, hit.id)
+        near = self.underlays.snap(raw, PICK_PX * self.px())   # a vertex of a visible underlay
+        if near is not None:
+            return near
         s = self.snap_step()
         return (round(raw[0] / s) * s + 0.0, round(raw[1] / s) * s + 0.0)
 
@@ -308,6 +314,7 @@ class CanvasView(QGraphicsView):
                 and len(old[2]) == len(key[2]) and all(a[1] is b[1] for a, b in zip(old[2], key[2]))):
             return
         self._key = key
+        self.underlays.sync(ctl.scene)
         self._sync_elements()
         poses = self.ctx.poses()
         live = {p.element for p in poses}
@@ -348,7 +355,7 @@ class CanvasView(QGraphicsView):
         px = self.px()
         for eid, res in results.items():
             if eid not in self.element_items:
-                item = GenevaItem(res) if isinstance(res, GenevaResult) else RollingItem(res)
+                item = gear_item(res) or (GenevaItem(res) if isinstance(res, GenevaResult) else RollingItem(res))
                 item.set_px(px)
                 self._scene.addItem(item)
                 self.element_items[eid] = item
@@ -398,7 +405,7 @@ class CanvasView(QGraphicsView):
                 rect = rect.united(QRectF(min(xs), min(ys), max(xs) - min(xs), max(ys) - min(ys)))
         for item in self.element_items.values():
             rect = rect.united(item.extent())
-        return rect
+        return rect.united(self.underlays.extent())
 
     def zoom_to_fit(self, quiet: bool = False) -> None:
         """Show the whole mechanism (its motion included) with a margin."""

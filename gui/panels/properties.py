@@ -29,6 +29,7 @@ from .. import units
 from ..controller import SceneController
 from ..selection import ELEMENT, element_target
 from mechsketch.core.solver.flip import FLIPPABLE, flip_edit
+from .gears_panel import gears_boxes
 from .geneva_panel import geneva_boxes
 from .lazy import defer_preview
 from .linkage_dims import dimensions_box, drive_button, driver_box, link_dimension_rows
@@ -157,7 +158,8 @@ class PropertiesPanel(QWidget):
         for lk in self.controller.linkages():
             items += [(f"{lk.id}: joint {j}", (lk.id, "joint", j)) for j in lk.joint_ids]
             items += [(f"{lk.id}: link {k}", (lk.id, "link", k)) for k in lk.link_ids]
-        kinds = {"geneva": "Geneva drive", "rolling_lever": "rolling lever"}
+        kinds = {"geneva": "Geneva drive", "rolling_lever": "rolling lever", "gear_pair": "gear pair",
+                 "geared_geneva": "smooth Geneva drive"}
         solved = self.controller.element_results()
         items += [(f"{e.id}: {kinds[e.type]}", (e.id, ELEMENT, e.id))
                   for e in self.controller.scene.elements if e.type in kinds and e.id in solved]
@@ -197,7 +199,8 @@ class PropertiesPanel(QWidget):
         lk = self.linkage()
         eid = element_target(self.controller)
         if eid is not None:
-            build = geneva_boxes if self.controller.scene.element(eid).type == "geneva" else rolling_boxes
+            kind = self.controller.scene.element(eid).type
+            build = {"geneva": geneva_boxes, "gear_pair": gears_boxes, "geared_geneva": gears_boxes}.get(kind, rolling_boxes)
             for box in build(self, eid):
                 self._content_layout.addWidget(box)
         elif lk is None:

@@ -31,6 +31,7 @@ class FakeDialogs:
         self.questions: list[tuple[str, str]] = []
         self.infos: list[tuple[str, str]] = []
         self.export_requests: deque = deque()
+        self.numbers: deque[float | None] = deque()
 
     def open_file_name(self, title, directory="", filter=""):
         self.questions.append((title, directory))
@@ -53,6 +54,10 @@ class FakeDialogs:
 
     def info(self, title, text):
         self.infos.append((title, text))
+
+    def ask_number(self, title, text, value, unit=""):
+        self.questions.append((title, f"{text} [{value:g} {unit}]"))
+        return self.numbers.popleft() if self.numbers else None
 
     def export_request(self, title, choices, default_id, fmt, min_webs=None):
         """The next queued ExportRequest (a callable gets the arguments), else the dialog's defaults."""
