@@ -21,6 +21,7 @@ from ..errors import MechsketchError, Problem, StructureError
 from ..runtime import tune_allocator
 from .design_cmds import add_design_parser
 from .export_cmds import add_export_parser
+from .study_cmds import add_study_parser
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..workspace import Workspace
@@ -112,8 +113,11 @@ def build_parser() -> argparse.ArgumentParser:
                    help="add the driving torque (a linear actuator: its force), joint reactions and "
                         "shaking force/moment (N, N·m) "
                         "to the table and the summary")
-    v = sub.add_parser("validate", help="list the problems of a scene file; exit 0 when there are none")
+    v = sub.add_parser("validate", help="list the problems of a scene file (exit 0 when it can be analysed) "
+                                        "and, as warnings, why its parts cannot be cut")
     v.add_argument("scene")
+    v.add_argument("--strict", action="store_true",
+                   help="manufacturability warnings are errors (exit 1): the scene must be cut-ready too")
     add_export_parser(sub)
     s = sub.add_parser("synthesize", help="synthesise rolling profiles (rolling_lever)")
     s.add_argument("scene")
@@ -128,6 +132,7 @@ def build_parser() -> argparse.ArgumentParser:
     c.add_argument("--samples", type=int, metavar="N")
     c.add_argument("--csv", metavar="PATH|-", required=True)
     add_design_parser(sub)
+    add_study_parser(sub)
     o = sub.add_parser("open", help="open a scene file in the desktop app")
     o.add_argument("scene", nargs="?")
     return p
@@ -149,6 +154,41 @@ def _structure_problems(ws: Workspace) -> list[Problem]:
 
 
 MAX_SAMPLES = 1_000_000
+#: the heading of validate's warnings
+MANUFACTURABILITY = ("manufacturability warnings (the scene can be analysed; its cut-ready parts cannot be cut "
+                     "with the sizes in force, and export refuses them until these are changed):")
+
+
+def _validate(args: argparse.Namespace) -> int:
+    """``validate``: problems that stop an analysis are errors (exit 1); reasons the parts cannot
+    be cut are warnings in a section of their own (exit 0), errors with ``--strict``."""
+    from ..io.scene_file import load_scene, validate_file
+    from ..workspace import Workspace
+    from .export_cmds import drawing_warnings
+
+    problems, warnings, motion = validate_file(args.scene), [], []
+    if not problems:
+        ws = Workspace(load_scene(args.scene))
+        problems = _structure_problems(ws)
+        warnings = drawing_warnings(ws)
+        if not problems:
+            from .linkage_cmds import kinematic_warnings   # the solver's findings: every analysis still runs
+
+            motion = kinematic_warnings(ws)
+    if args.strict:
+        problems, warnings = problems + warnings, []
+    for prob in problems:
+        print(prob)
+    if not problems:
+        print(f"{args.scene}: ok")
+        for warning in motion:
+            print(warning)
+    if warnings:
+        print(MANUFACTURABILITY)
+        for w in warnings:
+            print(f"  {w}")
+    return 0 if not problems else 1
+
 
 
 def single_blas_thread() -> bool:
@@ -168,26 +208,16 @@ def run(args: argparse.Namespace) -> int:
     from ..io.scene_file import load_scene, validate_file
     from ..workspace import Workspace
 
+    if args.command == "study":
+        from .study_cmds import run as run_study
+
+        return run_study(args)
     if args.command == "design":
         from .design_cmds import run_design
 
         return run_design(args)
     if args.command == "validate":
-        from .export_cmds import drawing_problems
-
-        problems = validate_file(args.scene)
-        if not problems:
-            ws = Workspace(load_scene(args.scene))
-            problems = _structure_problems(ws) + drawing_problems(ws)
-        for prob in problems:
-            print(prob)
-        if not problems:
-            from .linkage_cmds import kinematic_warnings   # the solver's findings: warnings, exit 0
-
-            for warning in kinematic_warnings(ws):
-                print(warning)
-            print(f"{args.scene}: ok")
-        return 0 if not problems else 1
+        return _validate(args)
     samples = getattr(args, "samples", None)   # analyze, centrodes: one check for both
     if samples is not None and not 2 <= samples <= MAX_SAMPLES:
         raise CliError(f"--samples must be from 2 to {MAX_SAMPLES:,}, got {samples:,}")

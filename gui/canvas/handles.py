@@ -238,7 +238,30 @@ class HandleLayer:
 
     # -- the drag -------------------------------------------------------------------------------
     def handle(self, ev: CanvasEvent) -> None:
+        if self._grab is not None and self.stale():
+            self.cancel()
+            self._explain("the drag was interrupted (an edit, undo or another document): drag again")
+            return
         getattr(self, f"_on_{ev.kind}", lambda _ev: None)(ev)
+
+    def stale(self) -> bool:
+        """The drag under way lost its ground: its element is gone or was changed by something
+        else (an undo, another document), or its preview was ended by an edit."""
+        ctl, h = self.ctx.controller, self._grab
+        if h is None:
+            return False
+        if h.element not in ctl.scene.ids:
+            return True
+        if self._started:
+            return not ctl.workspace.previewing
+        return ctl.scene.element(h.element) is not self._base
+
+    def forget(self, gone=None) -> bool:
+        """Abandon the drag if its element is in ``gone`` (None: the document was replaced)."""
+        if self._grab is not None and (gone is None or self._grab.element in gone):
+            self.cancel()
+            return True
+        return False
 
     def _explain(self, text: str) -> None:
         if text != self._said:

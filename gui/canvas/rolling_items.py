@@ -27,6 +27,7 @@ from PySide6.QtWidgets import QGraphicsItem, QGraphicsPathItem, QStyleOptionGrap
 from mechsketch.core.workspace import RollingResult
 from .geneva_items import _Container, _path_item, arc_to
 from .items import DRIVER_EDGE, INK, LINK_EDGE, LINK_FILL, MUTED, NOTE, SELECT, _pen, _px, _text, draw_ground
+from ..qtsafe import qt_safe
 
 FRAME_EDGE = QColor("#b03a2e")
 FRAME_FILL = QColor("#e8d5d2")
@@ -116,6 +117,7 @@ def lever_transform(F: np.ndarray, theta: float, f: tuple[float, float]) -> QTra
     return t
 
 
+@qt_safe
 class _Moving(QGraphicsItem):
     """The per-frame drawing of a :class:`RollingItem` (bars, joints, contacts), above its parts."""
 

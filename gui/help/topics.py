@@ -66,6 +66,11 @@ TOOLS: dict[str, Topic] = {
                      "the slider axis. The exact profiles are synthesised.", DRAW, "tool_rolling_placing.png"),
     "insert": Topic("Insert", "Click where the inserted scene's centre goes (Examples › Insert); its ids are "
                     "renamed where they are taken. Esc cancels.", DRAW),
+    "underlay": Topic("Placing an underlay", "Click the first of two points of known distance on the underlay "
+                      "(its vertices snap), then the second, and type the distance between them (in the length "
+                      "unit of the preferences): the underlay is scaled about the first point. Esc keeps it as "
+                      "it is. View › Underlays also moves, hides and removes it.",
+                      "readme/underlays-clipboard-and-dropped-files", "underlay.png"),
 }
 
 DOCKS: dict[str, Topic] = {

@@ -17,7 +17,8 @@ import math
 from dataclasses import replace
 from typing import Callable
 
-from PySide6.QtCore import Qt
+from PySide6.QtCore import Qt, Signal
+from PySide6.QtGui import QKeyEvent
 from PySide6.QtWidgets import (QComboBox, QFormLayout, QFrame, QGroupBox, QHBoxLayout, QLabel, QLineEdit,
                                QScrollArea, QToolButton, QVBoxLayout, QWidget)
 
@@ -34,6 +35,7 @@ from .lazy import defer_preview
 from .linkage_dims import dimensions_box, drive_button, driver_box, link_dimension_rows
 from .loads_panel import joint_friction_row, link_mass_rows, loads_box
 from .rolling_panel import rolling_boxes
+from ..qtsafe import qt_safe
 
 Selection = tuple[str, str, str]
 
@@ -43,8 +45,14 @@ def fmt(value: float) -> str:
     return f"{value:.6f}".rstrip("0").rstrip(".") if math.isfinite(value) else "nan"
 
 
+@qt_safe
 class PropertiesPanel(QWidget):
-    """Edits of the selection and of its linkage, as undo commands through the controller."""
+    """Edits of the selection and of its linkage, as undo commands through the controller.
+
+    ``editingDone`` is emitted when Enter has committed a field (the window gives the keyboard
+    back to the canvas)."""
+
+    editingDone = Signal()
 
     def __init__(self, controller: SceneController, parent: QWidget | None = None) -> None:
         super().__init__(parent)
@@ -57,7 +65,9 @@ class PropertiesPanel(QWidget):
         self._content_layout.setContentsMargins(0, 0, 0, 0)
         scroll = QScrollArea()
         scroll.setWidgetResizable(True)
-        scroll.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAsNeeded)   # never hide a control
+        # the content fits the dock's width (form rows wrap their field under the label when
+        # narrow): one vertical scroll bar, never a sideways one (issue 24, item 5)
+        scroll.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
         scroll.setFrameShape(QFrame.Shape.NoFrame)
         scroll.setWidget(self._content)
         layout = QVBoxLayout(self)
@@ -76,6 +86,14 @@ class PropertiesPanel(QWidget):
         controller.changed.connect(self._on_changed)
         controller.selectionChanged.connect(self.refresh)
         self.refresh()
+
+    def keyPressEvent(self, event: QKeyEvent) -> None:  # noqa: N802 - Qt override
+        """Enter in a field has committed it (a line edit passes Enter on): editing is done."""
+        if event.key() in (Qt.Key.Key_Return, Qt.Key.Key_Enter):
+            event.accept()
+            self.editingDone.emit()
+            return
+        super().keyPressEvent(event)
 
     def units_changed(self) -> None:
         """The display units changed (Edit › Preferences): rebuild, so labels and values follow."""
@@ -172,8 +190,12 @@ class PropertiesPanel(QWidget):
         self._refreshers.clear()
         while self._content_layout.count():
             item = self._content_layout.takeAt(0)
-            if item.widget() is not None:
-                item.widget().deleteLater()
+            old = item.widget()
+            if old is not None:   # silenced first: a focused field losing its focus as it goes
+                for w in [old, *old.findChildren(QWidget)]:   # must not commit into another document
+                    w.blockSignals(True)
+                old.hide()
+                old.deleteLater()
         lk = self.linkage()
         eid = element_target(self.controller)
         if eid is not None:
@@ -198,6 +220,18 @@ class PropertiesPanel(QWidget):
             self._content_layout.addWidget(dimensions_box(self, lk.id))
             self._content_layout.addWidget(loads_box(self, lk.id))
         self._content_layout.addStretch(1)
+        self._fit_width()
+
+    def _fit_width(self) -> None:
+        """Let every row shrink to the dock's width: form rows put their field under the label
+        when narrow, texts wrap, combo boxes elide their longest choice (issue 24, item 5)."""
+        for form in self._content.findChildren(QFormLayout):
+            form.setRowWrapPolicy(QFormLayout.RowWrapPolicy.WrapLongRows)
+        for label in self._content.findChildren(QLabel):
+            label.setWordWrap(True)
+        for box in self._content.findChildren(QComboBox):
+            box.setSizeAdjustPolicy(QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
+            box.setMinimumContentsLength(8)
 
     def _elements_box(self) -> QGroupBox:
         box = QGroupBox("Scene")

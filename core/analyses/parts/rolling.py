@@ -36,7 +36,7 @@ from ..rolling.synthesis import RollingSynthesis
 
 #: tolerances below this are refused (mm): the biarc count grows like tolerance^(-1/3)
 MIN_TOLERANCE = 1e-6
-KEYS_PROFILE = ("stroke", "lever_circle", "slider_circle", "--tolerance", "--depth")
+KEYS_PROFILE = ("stroke", "lever_circle", "slider_circle", "option:tolerance", "option:depth")
 KEYS_LEVER = ("pin_diameter", "lever_circle", "slider_circle", "pin", "drive.coupler_point")
 
 
@@ -44,11 +44,13 @@ KEYS_LEVER = ("pin_diameter", "lever_circle", "slider_circle", "pin", "drive.cou
 class RollingStyle:
     """Sizes (mm): ``depth`` of the frame and slider plates behind their profiles (None: a
     quarter of the profile's chord, at least 3 pin diameters), ``boss`` around the lever's pins
-    (None: one pin diameter), ``tolerance`` of the fitted profiles."""
+    (None: one pin diameter), ``tolerance`` of the fitted profiles; ``depth_name``: how messages
+    name the depth (the front end's option)."""
 
     depth: float | None = None
     boss: float | None = None
     tolerance: float = 0.001
+    depth_name: str = "the plate depth"
 
 
 def _fit(curve_range, tolerance: float, what: str) -> BiarcFit:
@@ -92,7 +94,7 @@ def rolling_parts(res: RollingSynthesis, style: RollingStyle = RollingStyle()) -
     chord = max(float(np.hypot(*(res.P[-1] - res.P[0]))), float(np.hypot(*(res.Q[-1] - res.Q[0]))))
     depth = style.depth if style.depth is not None else max(0.25 * chord, 3 * el.pin_diameter)
     if not (math.isfinite(depth) and depth > 0):
-        raise GeometryError(f"--depth must be a positive number of millimetres; got {depth:g}")
+        raise GeometryError(f"{style.depth_name} must be a positive number of millimetres; got {depth:g}")
     # the lever is on one side of each profile: the material goes to the other
     ends = pose_state(res.geom, res.alpha[[0, -1]], res.theta[[0, -1]])
     away_f = 0.5 * (res.P[0] + res.P[-1]) - 0.5 * (ends.C1[0] + ends.C1[-1])
