@@ -14,7 +14,6 @@ from __future__ import annotations
 
 from .errors import (EditError, ExportError, GeometryError, MechsketchError, Problem, RequestError,
                      SceneFormatError, StructureError, UnknownIdError)
-from .io.scene_file import dumps_scene, load_scene, loads_scene, save_scene, validate_file
 from .model.edits import AddElement, MoveJoint, MoveJoints, RemoveElement, ReplaceElement
 from .model.linkage import Driver, Joint, JointKind, Link, Linkage
 from .model.scene import Scene
@@ -27,9 +26,19 @@ __all__ = [
 ]
 
 
+#: the scene file functions: they load every element kind's model (some with numpy), which the
+#: entry points must not import before they have set the process up (gui/launcher.py)
+_SCENE_FILE = ("dumps_scene", "load_scene", "loads_scene", "save_scene", "validate_file")
+
+
 def __getattr__(name: str):
-    """``Workspace`` and ``ElementView`` load the analyses: imported on first use, so that
-    ``import mechsketch.core`` stays light for code that only reads and writes scenes."""
+    """``Workspace`` and ``ElementView`` load the analyses, the scene file functions every element
+    kind: imported on first use, so that ``import mechsketch.core`` (which every entry point and
+    every submodule import does first) stays light."""
+    if name in _SCENE_FILE:
+        from .io import scene_file
+
+        return getattr(scene_file, name)
     if name in ("Workspace", "ElementView"):
         from . import workspace
 

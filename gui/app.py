@@ -22,11 +22,12 @@ from PySide6.QtWidgets import QApplication
 
 from mechsketch import resources
 
-from .autosave import INTERVAL_MS, Autosave
+from .autosave import Autosave
 from .controller import SceneController
 from .dialogs import DialogService, QtDialogService
 from .file_ops import FileOps, make_settings
 from .main_window import CanvasParts, Components, MainWindow
+from .preferences import load_preferences
 
 ExceptHook = Callable[[type[BaseException], BaseException, TracebackType | None], None]
 
@@ -99,15 +100,18 @@ class AppParts:
 
 def build(scene_path: str | os.PathLike | None = None, *, dialogs: DialogService | None = None,
           settings_path: str | os.PathLike | None = None, state_dir: str | os.PathLike | None = None,
-          components: Components | None = None, autosave_ms: int = INTERVAL_MS,
+          components: Components | None = None, autosave_ms: int | None = None,
           offer_recovery: bool = True) -> AppParts:
     """Make the app: controller, file operations, autosave, main window; open ``scene_path``
-    (or the default example), then offer a crash-recovery file if one is left. Not shown."""
+    (or the default example), then offer a crash-recovery file if one is left. Not shown.
+    ``autosave_ms``: the autosave interval (None: the preferences')."""
     started = time.perf_counter()
     app = qapplication()
     controller = SceneController()
     service = dialogs if dialogs is not None else QtDialogService()
     file_ops = FileOps(controller, service, make_settings(settings_path))
+    if autosave_ms is None:
+        autosave_ms = load_preferences(file_ops.settings).autosave_s * 1000
     autosave = Autosave(controller, Path(state_dir) if state_dir is not None else None, autosave_ms)
     window = MainWindow(controller, service, file_ops, autosave,
                         components if components is not None else canvas_parts)
@@ -128,16 +132,26 @@ def build(scene_path: str | os.PathLike | None = None, *, dialogs: DialogService
 
 
 def offer_recovery_files(parts: AppParts) -> bool:
-    """If a crashed run left a recovery file, ask whether to restore it; True if restored."""
+    """Offer the recovery files crashed runs left, newest first, one at a time, until one is
+    restored: Yes restores it, No deletes it. Files not asked about (after a restore) stay and are
+    offered at the next start. A file another starting app is offering is skipped. True if restored."""
     pending = parts.autosave.pending()
-    if not pending:
-        return False
-    newest = pending[0]
-    if parts.dialogs.ask_yes_no("Restore unsaved work?",
-                                f"mechsketch did not exit cleanly last time.\n\nRestore {newest.describe()}?\n"
-                                "(No deletes the recovery file.)"):
-        return parts.autosave.restore(newest) is not None
-    newest.discard()
+    for k, recovery in enumerate(pending):
+        if not recovery.claim():
+            continue
+        more = len(pending) - k - 1
+        also = f"\n\n{more} older recovery file(s) will be offered after this one." if more else ""
+        if parts.dialogs.ask_yes_no("Restore unsaved work?",
+                                    f"mechsketch did not exit cleanly.\n\nRestore {recovery.describe()}?\n"
+                                    f"(No deletes the recovery file.){also}"):
+            if parts.autosave.restore(recovery) is not None:
+                if more:
+                    parts.controller.message.emit(
+                        f"restored {recovery.describe()}; {more} older recovery file(s) kept in "
+                        f"{parts.autosave.folder}, offered at the next start")
+                return True
+            continue
+        recovery.discard()
     return False
 
 

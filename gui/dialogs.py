@@ -3,17 +3,73 @@
 Every component that needs a file name, a question or an error message calls a
 :class:`DialogService` handed to it; nothing else in the app opens a modal dialog. Tests pass an
 object with the same methods (see ``tests/gui/app_fakes.py``) and never patch Qt.
+
+The file dialogs never open a file they list (:class:`SafeIconProvider`): Qt's own icon provider
+reads each file's first bytes to guess its type, on the GUI thread among others, and a file such
+as ``/proc/kmsg`` blocks its reader (typing ``/proc/`` froze the Save dialog as root).
 """
 from __future__ import annotations
 
 from typing import Protocol
 
-from PySide6.QtWidgets import QDialog, QFileDialog, QMessageBox, QWidget
+from PySide6.QtCore import QFileInfo, QMimeDatabase
+from PySide6.QtGui import QAbstractFileIconProvider, QIcon
+from PySide6.QtWidgets import QDialog, QFileDialog, QFileIconProvider, QInputDialog, QMessageBox, QWidget
+
+from .qtsafe import qt_safe
 
 SCENE_FILTER = "mechsketch scenes (*.json);;All files (*)"
 
 #: answers of :meth:`DialogService.ask_save_changes`
 SAVE, DISCARD, CANCEL = "save", "discard", "cancel"
+
+
+@qt_safe
+class SafeIconProvider(QFileIconProvider):
+    """A file's icon and type name from its name and kind alone (a stat, never a read)."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self._mime = QMimeDatabase()
+
+    def _by_name(self, info: QFileInfo):
+        return self._mime.mimeTypeForFile(info.fileName(), QMimeDatabase.MatchMode.MatchExtension)
+
+    def icon(self, what):  # noqa: D102 - QFileIconProvider.icon(IconType | QFileInfo)
+        if not isinstance(what, QFileInfo):
+            return super().icon(what)
+        kind = QAbstractFileIconProvider.IconType
+        if what.isRoot():
+            return super().icon(kind.Drive)
+        if what.isDir():
+            return super().icon(kind.Folder)
+        themed = QIcon.fromTheme(self._by_name(what).iconName())
+        return themed if not themed.isNull() else super().icon(kind.File)
+
+    def type(self, info: QFileInfo) -> str:  # noqa: D102 - QFileIconProvider.type
+        if info.isDir():
+            return "Folder"
+        mime = self._by_name(info)
+        return "File" if mime.isDefault() else mime.comment()
+
+
+def file_dialog(parent: QWidget | None, title: str, directory: str, filter: str, save: bool) -> QFileDialog:
+    """A file dialog (Save or Open) that lists files without opening any of them."""
+    dlg = QFileDialog(parent, title, directory, filter)
+    dlg.setAcceptMode(QFileDialog.AcceptMode.AcceptSave if save else QFileDialog.AcceptMode.AcceptOpen)
+    dlg.setFileMode(QFileDialog.FileMode.AnyFile if save else QFileDialog.FileMode.ExistingFile)
+    provider = SafeIconProvider()
+    dlg.setIconProvider(provider)
+    dlg._icon_provider = provider   # the dialog does not own it: keep it alive as long as the dialog
+    return dlg
+
+
+def _ask_file(parent: QWidget | None, title: str, directory: str, filter: str, save: bool) -> str | None:
+    dlg = file_dialog(parent, title, directory, filter, save)
+    if dlg.exec() != QDialog.DialogCode.Accepted:
+        return None
+    names = dlg.selectedFiles()
+    return names[0] if names else None
 
 
 class DialogService(Protocol):
@@ -37,6 +93,9 @@ class DialogService(Protocol):
     def info(self, title: str, text: str) -> None:
         """Tell the user something (the About box)."""
 
+    def ask_number(self, title: str, text: str, value: float, unit: str = "") -> float | None:
+        """A positive number (shown with ``unit``), ``value`` offered; None if the user cancelled."""
+
     def export_request(self, title: str, choices: dict, default_id: str, fmt: str,
                        min_webs: dict | None = None):
         """The export options (an :class:`~mechsketch.gui.export_dialog.ExportRequest`) for one of
@@ -50,12 +109,10 @@ class QtDialogService:
         self.parent = parent
 
     def open_file_name(self, title: str, directory: str = "", filter: str = SCENE_FILTER) -> str | None:
-        name, _ = QFileDialog.getOpenFileName(self.parent, title, directory, filter)
-        return name or None
+        return _ask_file(self.parent, title, directory, filter, save=False)
 
     def save_file_name(self, title: str, directory: str = "", filter: str = SCENE_FILTER) -> str | None:
-        name, _ = QFileDialog.getSaveFileName(self.parent, title, directory, filter)
-        return name or None
+        return _ask_file(self.parent, title, directory, filter, save=True)
 
     def ask_save_changes(self, name: str) -> str:
         box = QMessageBox(QMessageBox.Icon.Warning, "Unsaved changes",
@@ -85,6 +142,11 @@ class QtDialogService:
 
     def info(self, title: str, text: str) -> None:
         QMessageBox.information(self.parent, title, text)
+
+    def ask_number(self, title: str, text: str, value: float, unit: str = "") -> float | None:
+        label = f"{text} ({unit})" if unit else text
+        number, ok = QInputDialog.getDouble(self.parent, title, label, value, 1e-9, 1e9, 6)
+        return number if ok else None
 
     def export_request(self, title: str, choices: dict, default_id: str, fmt: str,
                        min_webs: dict | None = None):

@@ -29,6 +29,7 @@ from mechsketch.core.model.linkage import Linkage
 from mechsketch.core.model.rolling_lever import RollingLever
 
 from .export_dialog import ExportRequest
+from .qtsafe import qt_safe
 
 #: the tolerance of fitted curves (mm), as ``mechsketch export`` uses by default
 DEFAULT_TOLERANCE = parts_build.DEFAULT_TOLERANCE
@@ -45,6 +46,7 @@ class _Signals(QObject):
     done = Signal()
 
 
+@qt_safe
 class ExportTask(QRunnable):
     """Export ``element``'s parts to ``path`` as ``request`` says (default: DXF, apart, all
     parts); see the module docstring for the two stages."""
@@ -82,7 +84,7 @@ class ExportTask(QRunnable):
                 return
             self.signals.progress.emit(f"checking and writing {Path(self.path).name}…")
             exp = export_parts(ps, self.path, req.fmt, req.layout, req.parts, req.split, req.arcs,
-                               parts_build.min_web_of(el, req.options))
+                               parts_build.min_web_of(el, req.options), req.options.vocabulary)
         except (MechsketchError, OSError, ValueError) as exc:
             self.signals.failed.emit(str(exc))
             return

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import os
+import sys
 from pathlib import Path
 from typing import Callable
 
@@ -28,6 +29,22 @@ MAX_PROBLEMS_SHOWN = 8
 
 #: settings migrations: version v -> function updating a v QSettings to v + 1 in place
 SETTINGS_MIGRATIONS: dict[int, Callable[[QSettings], None]] = {}
+
+
+#: folders of the kernel's pseudo files on Linux: reading one may block or consume it (/proc/kmsg
+#: blocks its reader and loses what it read), whatever it claims to be; /dev/shm is ordinary memory
+SYSTEM_FOLDERS = ("/proc", "/sys", "/dev")
+
+
+def system_folder(path: str | os.PathLike) -> str | None:
+    """The pseudo-file folder (/proc, /sys, /dev) ``path`` is in after symlinks, or None. Only a
+    path is looked at: nothing is opened."""
+    if not sys.platform.startswith("linux"):
+        return None
+    real = os.path.realpath(os.fspath(path))
+    if real == "/dev/shm" or real.startswith("/dev/shm/"):
+        return None
+    return next((d for d in SYSTEM_FOLDERS if real == d or real.startswith(d + "/")), None)
 
 
 def make_settings(path: str | os.PathLike | None = None) -> QSettings:
@@ -204,6 +221,11 @@ class FileOps(QObject):
 
     # -- helpers -----------------------------------------------------------------------------
     def _load(self, path: Path) -> Scene | None:
+        system = system_folder(path)
+        if system is not None:
+            self._fail("Cannot open scene", f"{path} is a system file (in {system}), not a scene file; "
+                                            "nothing was read. The current scene is kept.")
+            return None
         try:
             return load_scene(path)
         except SceneFormatError as exc:

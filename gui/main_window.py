@@ -13,13 +13,13 @@ Start-up (issue 14): the first frame does not wait for what it does not show. Th
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Callable
 
 from PySide6.QtCore import QByteArray, QObject, QSize, Qt, QTimer
 from PySide6.QtGui import QAction, QCloseEvent, QKeySequence
-from PySide6.QtWidgets import QDockWidget, QLabel, QMainWindow, QMenu, QVBoxLayout, QWidget
+from PySide6.QtWidgets import QApplication, QDockWidget, QLabel, QMainWindow, QMenu, QVBoxLayout, QWidget
 
 from mechsketch.core import ExportError
 
@@ -28,8 +28,17 @@ from .controller import SceneController
 from .dialogs import DialogService
 from .selection import ELEMENT
 from .file_ops import FileOps
+from .clipboard import ClipboardCommands
+from .drops import DropTarget
+from .help.actions import HelpCommands
+from .underlays import UnderlayCommands
+from . import units
+from .preferences import (Preferences, apply_preferences, load_preferences, open_preferences_dialog, part_options,
+                          store_preferences)
 from .panels.diagnostics import DiagnosticsPanel
 from .panels.properties import PropertiesPanel
+from .input_policy import InputPolicy
+from .qtsafe import qt_safe
 
 
 #: the tool buttons' labels on the toolbar (by action name; tools not listed keep their title)
@@ -57,7 +66,7 @@ LAYOUT_VERSION = 1
 #: so that the first layout (and the canvas's first zoom to fit) is the one the panel gets
 #: (tests/gui/test_startup_imports.py checks them against the real panel)
 PLOTS_SIZE_HINT = (604, 511)
-PLOTS_MINIMUM_SIZE_HINT = (167, 99)
+PLOTS_MINIMUM_SIZE_HINT = (218, 99)
 
 
 @dataclass
@@ -87,6 +96,7 @@ class CanvasParts:
 Components = Callable[[SceneController, "MainWindow"], CanvasParts]
 
 
+@qt_safe
 class MainWindow(QMainWindow):
     """The app's window. ``actions`` maps names ("open", "save", "undo", "example:NAME", ...) to
     the QActions, which tests trigger as a user would."""
@@ -134,7 +144,18 @@ class MainWindow(QMainWindow):
         self.statusBar().addPermanentWidget(self.solve_label)
         self.statusBar().addPermanentWidget(self.frame_label)
 
+        # -- preferences (issue 24 item 9): units, snap, samples, dead points, new parts -----------
+        self.preferences = load_preferences(file_ops.settings)
+        self.preferences_dialog = None
+        apply_preferences(self.preferences, self, autosave=False)   # the app sets the interval it starts with
+
         # -- wiring -------------------------------------------------------------------------
+        self.drops = DropTarget(self)   # scene files open, drawings and pictures become underlays
+        # keyboard and wheel habits (issue 24, items 1-2): Enter in a field gives the keys back to
+        # the canvas; shortcuts beat an unchanged field; the wheel does not edit unfocused boxes
+        self.properties.editingDone.connect(self.canvas.setFocus)
+        self.input_policy = InputPolicy(self)
+        QApplication.instance().installEventFilter(self.input_policy)
         controller.message.connect(self.show_message)
         controller.solveFailed.connect(self._on_solve_failed)
         controller.pathChanged.connect(self.update_title)
@@ -158,7 +179,7 @@ class MainWindow(QMainWindow):
     def _make_plots(self) -> QWidget:
         from .panels.plots import PlotsPanel
 
-        plots = PlotsPanel(self.controller)
+        plots = PlotsPanel(self.controller, settings=self.file_ops.settings)   # remembers the chosen plots
         plots.add_header_actions([self.actions["export_png"], self.actions["export_csv"]])
         return plots
 
@@ -226,6 +247,19 @@ class MainWindow(QMainWindow):
         if self.parts.zoom_fit is not None:
             self.actions["zoom_fit"] = self.parts.zoom_fit
         self._action("about", "&About mechsketch", self.about)
+        prefs = self._action("preferences", "Pre&ferences…", self.open_preferences, "Ctrl+,",
+                             "Units, grid and snap, samples, autosave, dead points, defaults of new parts")
+        keys = [QKeySequence("Ctrl+,")] + [k for k in QKeySequence.keyBindings(K.Preferences)
+                                           if k.toString() != "Ctrl+,"]
+        prefs.setShortcuts(keys)
+        # -- clipboard, underlays (issue 24 item 10, issue 22 item 6): Ctrl+C/V/D, Import Underlay
+        self.clipboard_commands = ClipboardCommands(self)
+        self.underlay_commands = UnderlayCommands(self, self.dialogs)
+        self.actions.update(self.clipboard_commands.actions)
+        self.actions.update(self.underlay_commands.actions)
+        # -- help (issue 24 item 8): Manual (F1, context help), Getting Started, Shortcuts
+        self.help = HelpCommands(self)
+        self.actions.update(self.help.actions)
         for name in self.file_ops.examples():
             self._action(f"example:{name}", name.replace("_", " "),
                          lambda name=name: self.file_ops.open_example(name), tip=f"Open the example {name}")
@@ -236,21 +270,29 @@ class MainWindow(QMainWindow):
         file_menu = bar.addMenu("&File")
         file_menu.addActions([a["new"], a["open"]])
         self.recent_menu = QMenu("Open &Recent", self)
+        self.recent_menu.setToolTipsVisible(True)   # each entry's full path on hover
         file_menu.addMenu(self.recent_menu)
         file_menu.addActions([a["save"], a["save_as"]])
         file_menu.addSeparator()
         file_menu.addActions([a["export_dxf"], a["export_svg"], a["export_png"], a["export_csv"]])
+        file_menu.addSeparator()
+        file_menu.addAction(a["import_underlay"])
         self._add_extra(file_menu, "file")
         file_menu.addSeparator()
         file_menu.addAction(a["quit"])
         self._fill_recent()
         edit = bar.addMenu("&Edit")
         edit.addActions([a["undo"], a["redo"]])
+        edit.addSeparator()
+        edit.addActions([a["copy"], a["paste"], a["duplicate"]])
         if "delete" in a:
             edit.addSeparator()
             edit.addAction(a["delete"])
+        edit.addSeparator()
+        edit.addAction(a["preferences"])
         view = bar.addMenu("&View")
         view.addActions(self.parts.view_actions)
+        view.addMenu(self.underlay_commands.menu(self))
         self._add_extra(view, "view")
         if self.parts.animation_actions:
             animation = view.addMenu("&Animation")
@@ -265,6 +307,8 @@ class MainWindow(QMainWindow):
             examples.addAction(a[f"example:{name}"])
         self._add_extra(examples, "examples")
         help_menu = bar.addMenu("&Help")
+        help_menu.addActions([a["manual"], a["getting_started"], a["shortcuts"]])
+        help_menu.addSeparator()
         help_menu.addAction(a["about"])
 
     def _add_extra(self, menu: QMenu, key: str) -> None:
@@ -302,6 +346,7 @@ class MainWindow(QMainWindow):
         for k, path in enumerate(recent):
             action = self.recent_menu.addAction(f"&{k + 1} {Path(path).name}")
             action.setStatusTip(path)
+            action.setToolTip(path)
             action.triggered.connect(lambda _c=False, p=path: self.file_ops.open_recent(p))
         if recent:
             self.recent_menu.addSeparator()
@@ -319,7 +364,9 @@ class MainWindow(QMainWindow):
 
     def show_cursor(self, x: float, y: float) -> None:
         """The pointer's world position in the status bar."""
-        self.cursor_label.setText(f"{x:.2f}, {y:.2f} mm")
+        u = units.current()
+        self.cursor_label.setText(f"{units.to_display(x, 'mm', u):.{2 if u.length == 'mm' else 4}f}, "
+                                  f"{units.to_display(y, 'mm', u):.{2 if u.length == 'mm' else 4}f} {u.length}")
 
     def _on_changed(self, _change) -> None:
         self.update_title()
@@ -402,11 +449,13 @@ class MainWindow(QMainWindow):
             return False
         target = self.export_target() or elements[0]
         choices = {e.id: part_names(e) for e in elements}
-        min_webs = {e.id: min_web_of(e, PartOptions()) for e in elements}
+        preferred = PartOptions(min_web=self.preferences.min_web or None)
+        min_webs = {e.id: min_web_of(e, preferred) for e in elements}
         title = f"Export {fmt.upper()}"
         req = self.dialogs.export_request(title, choices, target.id, fmt, min_webs)
         if req is None:
             return False
+        req = replace(req, options=part_options(self.preferences, req.options))   # preferred plate sizes
         el = scene.element(req.element_id)
         folder = self.controller.path.parent if self.controller.path else Path.home()
         name = self.dialogs.save_file_name(f"Export {el.id} as {fmt.upper()}", str(folder / f"{el.id}.{fmt}"),
@@ -425,6 +474,15 @@ class MainWindow(QMainWindow):
     def _export_failed(self, message: str) -> None:
         self.show_message(message)
         self.dialogs.error("Export DXF", f"{message}\n\nThe scene is not affected.")
+
+    # -- preferences (gui/preferences.py) --------------------------------------------------------
+    def open_preferences(self) -> None:
+        """Edit › Preferences: the dialog (window-modal, not blocking); OK stores and applies."""
+        open_preferences_dialog(self)
+
+    def set_preferences(self, prefs: Preferences) -> bool:
+        """Store ``prefs`` in the settings file and apply them (False, with the reason, if not)."""
+        return store_preferences(self, prefs)
 
     def about(self) -> None:
         from importlib.metadata import PackageNotFoundError, version
@@ -482,6 +540,7 @@ class MainWindow(QMainWindow):
         event.accept()
 
 
+@qt_safe
 class _FirstPaint(QWidget):
     """An empty widget that calls ``callback`` (through the event loop) once it has been painted;
     it asks for the size of the widget it stands in for."""
@@ -504,6 +563,7 @@ class _FirstPaint(QWidget):
             QTimer.singleShot(0, self, callback)   # dropped if this widget is gone by then
 
 
+@qt_safe
 class LazyDock(QDockWidget):
     """A dock whose content ``factory()`` makes after the window's first frame: the dock first
     holds an empty widget; when that has been painted (the first frame is on screen), the content

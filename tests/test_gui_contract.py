@@ -2,12 +2,13 @@
 
 Folders and files of ``gui/``, lowest first:
 
-- **base** — ``frames.py``, ``qpath.py``, ``selection.py`` (and the package itself): helpers every
-  part reads (frames and samples, array-to-path code, selection keys); they import no other GUI
-  module but each other;
+- **base** — ``frames.py``, ``qpath.py``, ``qtsafe.py``, ``selection.py``, ``units.py`` (and the
+  package itself): helpers every part reads (frames and samples, array-to-path code, safe Qt
+  overrides, selection keys, display units); they import no other GUI module but each other;
 - **controller** — ``controller.py``, the Qt adapter over the workspace: base only;
 - **canvas** (``gui/canvas/``) and **panels** (``gui/panels/``): base, the controller and their own
   folder; they never import each other (the main window wires them with signals);
+- **help** (``gui/help/``, the manual and context help): base, the controller and its own folder;
 - **app** — every other module at the top of ``gui/`` (the main window, the app, files, autosave,
   dialogs, the player, the scrub bar, export workers, the launcher): anything above.
 
@@ -24,8 +25,8 @@ from import_graph import import_cycles
 
 GUI = Path(__file__).resolve().parents[1] / "gui"
 PACKAGE = "mechsketch.gui"
-BASE_FILES = {"__init__.py", "frames.py", "qpath.py", "selection.py"}
-RANK = {"base": 0, "controller": 1, "canvas": 2, "panels": 2, "app": 3}
+BASE_FILES = {"__init__.py", "frames.py", "qpath.py", "qtsafe.py", "selection.py", "units.py"}
+RANK = {"base": 0, "controller": 1, "canvas": 2, "panels": 2, "help": 2, "app": 3}
 #: groups of equal rank that must not import each other
 PEERS = {"canvas": "panels", "panels": "canvas"}
 
@@ -33,7 +34,7 @@ PEERS = {"canvas": "panels", "panels": "canvas"}
 def group_of_file(path: Path) -> str:
     rel = path.relative_to(GUI)
     if len(rel.parts) > 1:
-        if rel.parts[0] not in ("canvas", "panels"):
+        if rel.parts[0] not in ("canvas", "panels", "help"):
             raise AssertionError(f"gui/{rel}: a new GUI folder needs a place in this contract")
         return rel.parts[0]
     if rel.name in BASE_FILES:

@@ -39,6 +39,11 @@ def test_wheel_contains_every_package_and_resource(tmp_path):
     for schema in (ROOT / "resources" / "schema").glob("*.json"):
         assert f"mechsketch/resources/schema/{schema.name}" in names
     assert not any(n.startswith(("core/", "gui/", "resources/", "tests/")) for n in names)
+    # the offline manual (issue 24 item 8): the README, the getting-started page, every picture
+    for name in ("README.md", "getting_started.md"):
+        assert f"mechsketch/resources/manual/{name}" in names
+    for picture in (ROOT / "docs" / "screenshots").glob("*.png"):
+        assert f"mechsketch/resources/manual/pictures/{picture.name}" in names
 
 
 def test_core_is_qt_free_and_works_without_qt():

@@ -285,8 +285,11 @@ def _values_at(sol: Solution, lk: Linkage, plan: Plan, outs: list[tuple[str, str
     return (y + angle0).ravel()
 
 
-def output_motions(lk: Linkage, plan: Plan, sol: Solution) -> list[OutputMotion]:
+def output_motions(lk: Linkage, plan: Plan, sol: Solution, full: bool | None = None) -> list[OutputMotion]:
     """The motion of every output over the cycle swept by ``sol`` (see the module docstring).
+    ``full``: whether the whole cycle assembles, as the diagnostics found it between the samples
+    (:func:`~mechsketch.core.solver.diagnostics.diagnose`); None: as the samples say. Where it does
+    not, no output has a stroke over the cycle.
 
     The extremes of all outputs are refined together: one golden-section search per extreme (2m
     for m outputs), all advanced :data:`LOOKAHEAD` steps per solve of only the groups the outputs
@@ -302,7 +305,7 @@ def output_motions(lk: Linkage, plan: Plan, sol: Solution) -> list[OutputMotion]
     hi: list[float] = []
     for link, kind, joint in _outputs(lk, plan):
         y = _value(sol, lk, link, kind, joint)
-        if not np.all(np.isfinite(y)):
+        if full is False or not np.all(np.isfinite(y)):
             motions.append(OutputMotion(link, kind, joint, note="the cycle stops at assembly limits (no stroke "
                                                                 "over a full cycle)"))
             continue
@@ -337,12 +340,12 @@ def output_motions(lk: Linkage, plan: Plan, sol: Solution) -> list[OutputMotion]
 
 
 
-def classification(lk: Linkage, plan: Plan, sol: Solution | None) -> list[str]:
+def classification(lk: Linkage, plan: Plan, sol: Solution | None, full: bool | None = None) -> list[str]:
     """Lines describing the linkage's kind and its outputs (see the module docstring); ``sol`` is
-    the cycle's sweep (outputs are not described without it)."""
+    the cycle's sweep (outputs are not described without it); ``full`` as for :func:`output_motions`."""
     out = _structure_lines(lk, plan)
     if sol is not None and len(sol) > 2:
-        out += [m.text() for m in output_motions(lk, plan, sol)]
+        out += [m.text() for m in output_motions(lk, plan, sol, full)]
     return out
 
 

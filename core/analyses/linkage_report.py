@@ -22,4 +22,5 @@ def linkage_summary(linkage: Linkage, plan: Plan, diagnostics: Diagnostics, solu
         how = f"at {d.speed_rpm:g} rpm ({'CCW' if d.speed_rpm > 0 else 'CW'})"
     head = (f"linkage {linkage.id!r}: {len(linkage.links)} links, {len(linkage.joints)} joints, driver "
             f"{d.link!r} {how}, drawn input {input_text(plan.theta0, plan.input_unit, 4)}")
-    return "\n".join([head, *classification(linkage, plan, solution), str(diagnostics)])
+    full = diagnostics.full_turn if diagnostics is not None else None
+    return "\n".join([head, *classification(linkage, plan, solution, full), str(diagnostics)])

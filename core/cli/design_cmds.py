@@ -12,7 +12,16 @@ import argparse
 import importlib
 
 #: design kind -> the module implementing it (``mechsketch design KIND --help`` lists its options)
-DESIGN_KINDS: dict[str, str] = {}
+DESIGN_KINDS: dict[str, str] = {
+    # linkage synthesis (issue 22): a path, poses, or an input-output function
+    "path": "mechsketch.core.cli.design_path",
+    "motion": "mechsketch.core.cli.design_motion",
+    "function": "mechsketch.core.cli.design_function",
+    # from requirements (issue 25): Geneva drives, rolling levers with a slider law, gear pitch curves
+    "geneva": "mechsketch.core.cli.design_geneva",
+    "rolling": "mechsketch.core.cli.design_rolling",
+    "gears": "mechsketch.core.cli.design_gears",
+}
 
 
 def add_design_parser(sub) -> argparse.ArgumentParser:

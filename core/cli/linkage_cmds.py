@@ -1,7 +1,9 @@
 """CLI handlers for linkage elements: ``analyze`` (CSV table + summary), ``analyze --forces``
-(the same table with the force columns, and the forces summary) and ``centrodes``."""
+(the same table with the force columns, and the forces summary), ``centrodes``, and the
+kinematic warnings ``validate`` prints (:func:`kinematic_warnings`)."""
 from __future__ import annotations
 
+import math
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -84,3 +86,40 @@ def centrodes(ws: Workspace, element_id: str, link: str, relative_to: str | None
 
     sol = ws.solve(element_id, samples=samples, order=1)
     return linkage_centrodes(sol, ws.element(element_id), link, relative_to).table()
+
+
+def kinematic_warnings(ws: Workspace) -> list[str]:
+    """What ``validate`` says of the linkages' motion (warnings: every analysis can still run):
+    a PRP or RPP group whose guides turn parallel during the cycle — its blocks run off to
+    infinity as the input approaches those poses, so the driver cannot pass them — with the
+    inputs (refined between the samples), the reachable ranges and the joints to change."""
+    from ..model.drivers import input_text
+    from ..model.linkage import Linkage
+    from ..solver.diagnostics import PARALLEL_NOTE, DeadPointKind
+
+    out = []
+    for el in ws.scene.elements:
+        if not isinstance(el, Linkage):
+            continue
+        res = ws.result(el.id)
+        if res is None or res.solution is None:
+            continue
+        diag = res.diagnostics
+        where: dict[str, list[str]] = {}
+        for p in diag.dead_points:
+            if p.kind is DeadPointKind.LIMIT and p.note == PARALLEL_NOTE:
+                x = math.remainder(p.input, 2 * math.pi) if p.unit == "rad" else p.input
+                text = input_text(x, p.unit, 2)
+                if text not in where.setdefault(p.group, []):
+                    where[p.group].append(text)
+        for name, inputs in where.items():
+            g = next(s.group for s in res.plan.steps if s.group.name == name)
+            guides = [j for j in g.joints if el.joint(j).kind.value == "P"]
+            ranges = "; ".join(f"{input_text(a, diag.unit, 2)} to {input_text(b, diag.unit, 2)}"
+                               for a, b in diag.reachable) or "none"
+            out.append(f"warning: linkage {el.id!r}: the guides of {name} turn parallel at input "
+                       f"{' and '.join(inputs)}: its blocks run off to infinity there, so the driver "
+                       f"cannot pass those inputs (reachable: {ranges}); turn a guide (axis_deg of "
+                       f"{' or '.join(guides)}) or change the links that carry them so that the guides "
+                       f"stay apart over the cycle")
+    return out

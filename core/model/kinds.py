@@ -11,7 +11,7 @@ from dataclasses import dataclass
 from typing import Any, Callable
 
 from ..errors import Problem
-from . import geneva, linkage_parse, rolling_lever
+from . import gear_pair, geared_geneva, geneva, linkage_parse, rolling_lever, underlay
 from .linkage import Linkage
 
 
@@ -19,12 +19,14 @@ from .linkage import Linkage
 class ElementKind:
     """One element type: ``schema`` a file in ``mechsketch.resources.schema``; ``parse(data, path)``
     returns (the record or None, [Problem]) with ``path`` the element's JSON path in messages;
-    ``dump(record)`` the element's JSON object."""
+    ``dump(record)`` the element's JSON object; ``parts`` False for a kind that is no part of the
+    machine (an underlay: nothing is cut from it, ``validate`` builds no parts of it)."""
 
     type: str
     schema: str
     parse: Callable[[dict[str, Any], str], tuple[Any, list[Problem]]]
     dump: Callable[[Any], dict[str, Any]]
+    parts: bool = True
 
 
 #: element type -> its kind, in the order the README lists them
@@ -33,6 +35,12 @@ ELEMENT_KINDS: dict[str, ElementKind] = {
     "geneva": ElementKind("geneva", geneva.SCHEMA, geneva.parse, geneva.Geneva.to_dict),
     "rolling_lever": ElementKind("rolling_lever", rolling_lever.SCHEMA, rolling_lever.parse,
                                  rolling_lever.RollingLever.to_dict),
+    # schema_version 3: a drawing or picture under the canvas (issue 22 item 6)
+    "underlay": ElementKind("underlay", underlay.SCHEMA, underlay.parse, underlay.Underlay.to_dict, parts=False),
+    # schema_version 3: non-circular gears and a Geneva driven through them (issue 25 items 3-4)
+    "gear_pair": ElementKind("gear_pair", gear_pair.SCHEMA, gear_pair.parse, gear_pair.GearPair.to_dict),
+    "geared_geneva": ElementKind("geared_geneva", geared_geneva.SCHEMA, geared_geneva.parse,
+                                 geared_geneva.GearedGeneva.to_dict),
 }
 
 

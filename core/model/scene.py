@@ -1,6 +1,6 @@
 """A scene: the user's document, an ordered tuple of elements with unique ids.
 
-Element types (``linkage``, ``geneva``, ``rolling_lever``) are immutable records with an ``id``,
+Element types (``linkage``, ``geneva``, ``rolling_lever``, ``underlay``) are immutable records with an ``id``,
 a ``type`` and ``to_dict()``. Each type's schema, parser and writer are registered in
 :data:`~.kinds.ELEMENT_KINDS`.
 """
@@ -13,8 +13,12 @@ from ..errors import UnknownIdError
 
 FORMAT = "mechsketch.scene"
 #: 2: a linkage's driver states its ``kind`` (crank, cylinder, slider) and may carry a stroke and
-#: a motion law; version 1 files are migrated on reading (core/io/scene_file.py)
-SCHEMA_VERSION = 2
+#: a motion law; version 1 files are migrated on reading (core/io/scene_file.py).
+#: 3: a linkage may carry an optional ``drawing`` block (plate sizes for its cut-ready parts), and
+#: new element kinds (underlays; gear pairs and geared Geneva drives, issue 25) and optional blocks
+#: (a rolling lever's slider law); every version 2 file is a version 3 file (the migration only
+#: changes the number)
+SCHEMA_VERSION = 3
 
 
 class Element(Protocol):

@@ -190,6 +190,10 @@ class _Builder:
             raise EditError(f"group {name} cannot be assembled: its pins {mi} and {hj} are {D:.6g} mm apart, "
                             f"{abs(c) - D:.6g} mm less than the slide axis's offset {abs(c):.6g} mm")
         sigma = mode * math.sqrt(max(D * D - c * c, 0.0))
+        if D <= self.tol(D) and abs(c) <= self.tol(D):
+            raise EditError(f"group {name} cannot be assembled: its pins {mi} and {hj} coincide at the drawn "
+                            f"input ({D:.3g} mm apart) on a slide axis through both, which leaves the axis "
+                            f"{pj} no direction: move {mi} or {hj} so that they are apart at the drawn input")
         u = _unit(d / complex(sigma, c))
         ri, rj = u / wi, u / wj
         self.pose[li] = (M - ri * si.pts[mi], ri)

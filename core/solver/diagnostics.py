@@ -1,8 +1,10 @@
 """Diagnostics of a swept linkage: reachable input ranges, dead points, transmission angles.
 
-Boundaries between assemblable and non-assemblable samples are refined by bisection on the
-driver input (to ~1e-12 rad); near-toggle minima of a group's conditioning inside the reachable
-range are refined by golden-section search. Angles are radians unless a name says ``_deg``.
+Assembly limits, pockets narrower than a sample step, singular poses and near-toggles are found
+between the samples from each group's closed form (:mod:`.limits`: bisection of the assembly,
+golden-section search of the margins' and conditionings' sampled minima that could dip below
+their thresholds), so the ranges and dead points are the same at any number of samples.
+Angles are radians unless a name says ``_deg``.
 
 They describe the geometry against the input, whatever the motion law: a crank over one full
 turn (a crank driven by another law is diagnosed on a constant-speed turn), an actuator over its
@@ -11,19 +13,19 @@ stroke (inputs in mm; ``unit`` says which).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from enum import StrEnum
 
 import numpy as np
 
 from ..model.drivers import input_text
-from .branches import golden_min
+from .limits import Events, find_events
 from .plan import Plan, Solution
 from .structure import GroupKind
 from .tolerances import TOGGLE_COND
 
-BISECT_STEPS = 48
-GOLDEN_STEPS = 60
+#: what a limit of a PRP or RPP group means (its guides turn parallel there)
+PARALLEL_NOTE = "the guides turn parallel: the blocks run off to infinity as the input approaches it"
 
 
 class DeadPointKind(StrEnum):
@@ -49,6 +51,7 @@ class DeadPoint:
     kind: DeadPointKind
     conditioning: float
     unit: str = "rad"    # of ``input``: "rad" (crank angle) or "mm" (actuator)
+    note: str = ""       # why, where the kind alone does not say (a PRP's guides turning parallel)
 
     def __post_init__(self) -> None:
         if not isinstance(self.kind, DeadPointKind):
@@ -61,6 +64,8 @@ class DeadPoint:
                 DeadPointKind.SINGULAR: "singular sample (the outer joints coincide: the pose is undetermined "
                                         "there and not given; the motion keeps to the smooth branch)",
                 }.get(self.kind, f"near toggle (conditioning {self.conditioning:.1e})")
+        if self.note:
+            what = f"{what} ({self.note})"
         return f"{input_text(self.input, self.unit, 6)} {self.group}: {what}"
 
 
@@ -116,29 +121,83 @@ def _assembled(sol: Solution) -> np.ndarray:
     return sol.valid | sol.singular
 
 
-def _bisect_valid(plan: Plan, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """For each pair (a valid, b invalid), the input where validity ends (vectorised bisection)."""
-    a, b = a.astype(float).copy(), b.astype(float).copy()
-    for _ in range(BISECT_STEPS):
-        m = 0.5 * (a + b)
-        ok = _assembled(plan.evaluate(m, order=0))
-        a = np.where(ok, m, a)
-        b = np.where(ok, b, m)
-    return a
+def _ranges(ev: Events, x: np.ndarray, asm: np.ndarray, periodic: bool) -> list[tuple[float, float]]:
+    """The assembled input ranges (start, end), in the samples' direction, from the boundaries
+    of ``ev`` (sorted that way): on a turn (``periodic``) the range through the first sample (the
+    drawn pose) starts before it; over a stroke a range may start or end at a stroke end."""
+    bs = ev.boundaries
+    if not bs:   # assembled everywhere (a full turn, the whole stroke) or nowhere
+        return []
+    step = float(x[1] - x[0])
+    turn = math.copysign(2 * math.pi, step)
+    out = []
+    if periodic:
+        first = next((i for i, b in enumerate(bs) if b.start), None)
+        if first is None:
+            return []
+        order = bs[first:] + bs[:first]
+        start = None
+        for b in order:
+            if b.start:
+                start = b.x
+            elif start is not None:
+                end = b.x
+                while (end - start) * step < 0:
+                    end += turn
+                out.append((start, end))
+                start = None
+        x0 = float(x[0])
+        # the range through the drawn pose (the first sample) is stated from before it
+        sg = math.copysign(1.0, step)
+        out = [(s - turn, e - turn) if (s - x0) * sg > 0 and (e - x0) * sg > 2 * math.pi else (s, e)
+               for s, e in out]
+        return sorted(((float(s), float(e)) for s, e in out), key=lambda r: r[0] * sg)
+    start = float(x[0]) if asm[0] else None
+    for b in bs:
+        if b.start:
+            start = b.x
+        elif start is not None:
+            out.append((start, b.x))
+            start = None
+    if start is not None:
+        out.append((start, float(x[-1])))
+    return [(float(s), float(e)) for s, e in out]
 
 
-def _golden_min(plan: Plan, group: str, a: float, b: float) -> tuple[float, float]:
-    """Input in [a, b] where ``group``'s conditioning is least, and that conditioning."""
-    def f(x: float) -> float:
-        c = plan.evaluate(np.array([x]), order=0).conditioning(group)[0]
-        return float(c) if np.isfinite(c) else 0.0
+def _dead_points(ev: Events, plan: Plan, unit: str, span: float) -> list[DeadPoint]:
+    """The dead points of the events: each boundary's limit, the singular poses, the toggles
+    (change points where a branch point lies within 1e-5 rad, or 1e-6 of the stroke)."""
+    dead = [DeadPoint(b.x, b.group, DeadPointKind.LIMIT, 0.0, unit, PARALLEL_NOTE if b.parallel else "")
+            for b in ev.boundaries if b.group is not None]
+    dead += [DeadPoint(x, g, DeadPointKind.SINGULAR, 0.0, unit) for x, g in ev.singular]
+    branches = plan.branch_points()
+    for x, g, c in ev.toggles:
+        bp = branches.get(g, np.empty(0))
+        if unit == "rad":
+            off = (plan.direction * (x - plan.theta0)) % (2 * math.pi)
+            near = bp.size and np.min(np.abs(np.remainder(bp - off + math.pi, 2 * math.pi) - math.pi)) < 1e-5
+        else:
+            near = bp.size and float(np.min(np.abs(bp - x))) < 1e-6 * max(span, 1.0)
+        dead.append(DeadPoint(x, g, DeadPointKind.CHANGE_POINT if near else DeadPointKind.TOGGLE, c, unit))
+    return dead
 
-    return golden_min(f, a, b, GOLDEN_STEPS)
+
+def _transmission(sol: Solution) -> dict[str, tuple[float, float]]:
+    trans = {}
+    for g in sol.groups:
+        if g.kind is GroupKind.RRR and _assembled(sol).any():
+            mu = np.degrees(sol.transmission_angle(g.name))
+            mu = mu[np.isfinite(mu)]
+            if mu.size:
+                trans[g.name] = (float(mu.min()), float(mu.max()))
+    return trans
 
 
 def diagnose(sol: Solution) -> Diagnostics:
     """Diagnostics of a full-cycle sweep (``plan.sweep``): a crank over one turn, an actuator
-    over its stroke (see the module docstring)."""
+    over its stroke (see the module docstring). Limits, singular poses and toggles are found
+    between the samples from each group's closed form (:mod:`.limits`), so they do not depend on
+    the number of samples."""
     drv = sol.plan.linkage.driver
     if drv.linear:
         return _diagnose_stroke(sol)
@@ -149,53 +208,13 @@ def diagnose(sol: Solution) -> Diagnostics:
     plan = sol.plan
     n = len(sol)
     valid = _assembled(sol)
-    step = sol.input[1] - sol.input[0] if n > 1 else 2 * math.pi
-    groups = []
-    for g in sol.groups:
-        groups.append((g.name, g.kind, sol.group_output(g.name).mode))
-    dead: list[DeadPoint] = []
-    reachable: list[tuple[float, float]] = []
-    full = bool(valid.all())
-    if not full and valid.any():
-        nxt = np.roll(valid, -1)
-        ends = np.flatnonzero(valid & ~nxt)        # last valid sample before a gap
-        starts = np.flatnonzero(valid & ~np.roll(valid, 1))  # first valid sample after a gap
-        th = sol.input
-        end_at = _bisect_valid(plan, th[ends], th[ends] + step)
-        start_at = _bisect_valid(plan, th[starts], th[starts] - step)
-        for s in sorted(start_at):
-            e = min((x for x in end_at if (x - s) * np.sign(step) >= 0), key=lambda x: abs(x - s),
-                    default=end_at[0] + 2 * math.pi * np.sign(step))
-            sg = float(np.sign(step))
-            if (s - sol.input[0]) * sg > 0 and (e - sol.input[0]) * sg > 2 * math.pi - abs(step):
-                s, e = s - 2 * math.pi * sg, e - 2 * math.pi * sg  # the range through the drawn pose
-            reachable.append((float(s), float(e)))
-        probe = plan.evaluate(np.concatenate([end_at + 1e-9 * np.sign(step), start_at - 1e-9 * np.sign(step)]),
-                              order=0)
-        for k, x in enumerate(np.concatenate([end_at, start_at])):
-            for g in probe.groups:
-                o = probe.group_output(g.name)
-                if not o.ok[k] and not (o.singular is not None and o.singular[k]):
-                    dead.append(DeadPoint(float(x), g.name, DeadPointKind.LIMIT, 0.0))
-                    break
-    for g in sol.groups:
-        o = sol.group_output(g.name)
-        if o.singular is not None:
-            for k in np.flatnonzero(o.singular):
-                dead.append(DeadPoint(float(sol.input[k]), g.name, DeadPointKind.SINGULAR, 0.0))
-    # near-toggles inside the reachable range: local minima of conditioning below the threshold
-    for g in sol.groups:
-        if g.fixed:  # does not move: no toggle to pass through
-            continue
-        c = np.where(sol.valid, sol.conditioning(g.name), np.inf)
-        prev, nxt = np.roll(c, 1), np.roll(c, -1)
-        cand = np.flatnonzero((c < TOGGLE_COND) & (c <= prev) & (c <= nxt) & np.isfinite(prev) & np.isfinite(nxt))
-        branches = plan.branch_points().get(g.name, np.empty(0))
-        for k in cand:
-            x, cmin = _golden_min(plan, g.name, sol.input[k] - step, sol.input[k] + step)
-            off = (plan.direction * (x - plan.theta0)) % (2 * math.pi)
-            near = branches.size and np.min(np.abs(np.remainder(branches - off + math.pi, 2 * math.pi) - math.pi)) < 1e-5
-            dead.append(DeadPoint(float(x), g.name, DeadPointKind.CHANGE_POINT if near else DeadPointKind.TOGGLE, cmin))
+    step = float(sol.input[1] - sol.input[0]) if n > 1 else 2 * math.pi
+    periodic = n > 1 and abs(n * abs(step) - 2 * math.pi) <= 1e-9 * 2 * math.pi
+    groups = [(g.name, g.kind, sol.group_output(g.name).mode) for g in sol.groups]
+    ev = find_events(plan, sol, periodic)
+    reachable = _ranges(ev, sol.input, valid, periodic) if valid.any() else []
+    full = bool(valid.all()) and not ev.boundaries
+    dead = _dead_points(ev, plan, "rad", 2 * math.pi)
     th0 = float(sol.input[0])
     ends = [x for r in reachable for x in r]
 
@@ -206,16 +225,9 @@ def diagnose(sol: Solution) -> Diagnostics:
                 return e
         return th0 + math.remainder(x - th0, 2 * math.pi)
 
-    dead = [DeadPoint(near_pose(d.input), d.group, d.kind, d.conditioning) for d in dead]
+    dead = [replace(d, input=near_pose(d.input)) for d in dead]
     dead.sort(key=lambda d: d.input)
-    trans = {}
-    for g in sol.groups:
-        if g.kind is GroupKind.RRR and valid.any():
-            mu = np.degrees(sol.transmission_angle(g.name))
-            mu = mu[np.isfinite(mu)]
-            if mu.size:
-                trans[g.name] = (float(mu.min()), float(mu.max()))
-    return Diagnostics(plan.mobility, groups, n, float(valid.mean()), reachable, dead, trans,
+    return Diagnostics(plan.mobility, groups, n, float(valid.mean()), reachable, dead, _transmission(sol),
                        sol.elapsed, sol.residual(), full, tuple(g.name for g in sol.groups if g.fixed))
 
 
@@ -265,56 +277,20 @@ def sampled_dead_points(sol: Solution) -> list[DeadPoint]:
 
 def _diagnose_stroke(sol: Solution) -> Diagnostics:
     """Diagnostics of an actuator-driven linkage over its stroke (inputs in mm): the geometry is
-    sampled uniformly over the stroke with the sweep's sample count; the solve time, residual and
-    assemblable fraction are those of the sweep over the cycle."""
+    sampled uniformly over the stroke with the sweep's sample count and searched between the
+    samples (:mod:`.limits`); the solve time, residual and assemblable fraction are those of the
+    sweep over the cycle."""
     plan = sol.plan
     lo, hi = plan.linkage.driver.stroke
     n = max(len(sol), 3)
     x = np.linspace(lo, hi, n)
-    h = (hi - lo) / (n - 1)
     geo = plan.evaluate(x, order=0)
     valid = _assembled(geo)
-    unit = "mm"
     groups = [(g.name, g.kind, geo.group_output(g.name).mode) for g in geo.groups]
-    dead: list[DeadPoint] = []
-    reachable: list[tuple[float, float]] = []
-    full = bool(valid.all())
-    if not full and valid.any():
-        edges = np.flatnonzero(np.diff(np.concatenate(([0], valid.view(np.int8), [0]))))
-        for s, e in zip(edges[::2], edges[1::2]):   # runs of valid samples [s, e)
-            a = float(x[s]) if s == 0 else float(_bisect_valid(plan, x[s:s + 1], x[s - 1:s])[0])
-            b = float(x[e - 1]) if e == n else float(_bisect_valid(plan, x[e - 1:e], x[e:e + 1])[0])
-            reachable.append((a, b))
-            for at, probe in ((a, a - 1e-9 * h), (b, b + 1e-9 * h)):
-                if lo < at < hi:
-                    p = plan.evaluate(np.array([probe]), order=0)
-                    g = next((g for g in p.groups if not p.group_output(g.name).ok[0]), None)
-                    if g is not None:
-                        dead.append(DeadPoint(at, g.name, DeadPointKind.LIMIT, 0.0, unit))
-    for g in geo.groups:
-        o = geo.group_output(g.name)
-        if o.singular is not None:
-            dead += [DeadPoint(float(x[k]), g.name, DeadPointKind.SINGULAR, 0.0, unit) for k in np.flatnonzero(o.singular)]
-    branches = plan.branch_points()
-    for g in geo.groups:
-        if g.fixed:
-            continue
-        c = np.where(geo.valid, geo.conditioning(g.name), np.inf)
-        inner = np.zeros(n, dtype=bool)
-        inner[1:-1] = (c[1:-1] < TOGGLE_COND) & (c[1:-1] <= c[:-2]) & (c[1:-1] <= c[2:]) & np.isfinite(c[:-2]) \
-            & np.isfinite(c[2:])
-        bp = branches.get(g.name, np.empty(0))
-        for k in np.flatnonzero(inner):
-            at, cmin = _golden_min(plan, g.name, float(x[k] - h), float(x[k] + h))
-            near = bp.size and float(np.min(np.abs(bp - at))) < 1e-6 * max(hi - lo, 1.0)
-            dead.append(DeadPoint(at, g.name, DeadPointKind.CHANGE_POINT if near else DeadPointKind.TOGGLE, cmin, unit))
-    dead.sort(key=lambda d: d.input)
-    trans = {}
-    for g in geo.groups:
-        if g.kind is GroupKind.RRR and valid.any():
-            mu = np.degrees(geo.transmission_angle(g.name))
-            mu = mu[np.isfinite(mu)]
-            if mu.size:
-                trans[g.name] = (float(mu.min()), float(mu.max()))
-    return Diagnostics(plan.mobility, groups, len(sol), float(sol.valid.mean()), reachable, dead, trans,
-                       sol.elapsed, sol.residual(), full, tuple(g.name for g in geo.groups if g.fixed), unit, (lo, hi))
+    ev = find_events(plan, geo, periodic=False)
+    reachable = _ranges(ev, x, valid, periodic=False) if valid.any() else []
+    full = bool(valid.all()) and not ev.boundaries
+    dead = sorted(_dead_points(ev, plan, "mm", hi - lo), key=lambda d: d.input)
+    return Diagnostics(plan.mobility, groups, len(sol), float(sol.valid.mean()), reachable, dead,
+                       _transmission(geo), sol.elapsed, sol.residual(), full,
+                       tuple(g.name for g in geo.groups if g.fixed), "mm", (lo, hi))

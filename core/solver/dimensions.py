@@ -27,7 +27,7 @@ import cmath
 import math
 from dataclasses import dataclass
 
-from ..errors import EditError, GeometryError, UnknownIdError
+from ..errors import EditError, GeometryError, StructureError, UnknownIdError
 from ..model.edits import Edit, ReplaceElement
 from ..model.limits import MAX_ANGLE_DEG, MAX_LENGTH_MM
 from ..model.linkage import JointKind, Linkage
@@ -168,7 +168,13 @@ def set_dimension(linkage: Linkage, key: str, value: float) -> Linkage:
     """``linkage`` with dimension ``key`` set to ``value`` (mm or degrees) and re-assembled at its
     drawn input in its drawn assembly modes; raises :class:`EditError` saying which group cannot
     close and by how much (the linkage is not changed), UnknownIdError for an unknown key."""
-    new = reassemble(linkage, reshaped(linkage, key, float(value)))
+    shp = reshaped(linkage, key, float(value))
+    try:
+        plan = compile_plan(linkage)
+    except (StructureError, GeometryError) as exc:   # a draft: no mechanism to re-assemble yet
+        raise EditError(f"dimension {key} = {value:g}: linkage {linkage.id!r} cannot be re-assembled until "
+                        f"it solves: {exc}") from None
+    new = reassemble(linkage, shp, plan=plan)
     try:
         compile_plan(new)   # e.g. two joints of a link brought onto one point
     except GeometryError as exc:

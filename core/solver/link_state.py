@@ -96,7 +96,7 @@ class LinkState:
     @property
     def rot(self):
         """Rotation from the drawn pose, exp(iρ), complex (N,) or scalar."""
-        if self._turn is not None:
+        if self._turn is not None and self._rot is None:
             self.cs
         return self._rot_z
 
@@ -109,9 +109,12 @@ class LinkState:
     def cs(self) -> Pair | None:
         """Rotation from the drawn pose as (cos ρ, sin ρ)."""
         t = self._turn
-        if t is not None:   # made on first use from the link's current and drawn vectors
+        if t is not None and self._rot_xy is None and self._rot is None:
+            # made on first use from the link's current and drawn vectors; ``_turn`` is kept, so
+            # that :meth:`rotate` gives the same bits before and after (a point's arm must not
+            # depend on whether something read the rotation first: a cached solution and a
+            # fresh one agree bit for bit whatever was asked of them)
             vx, vy, (kr, ki) = t
-            self._turn = None
             self._rot_xy = (vx * kr - vy * ki, vx * ki + vy * kr)   # the points stay valid
         return self._cs
 
@@ -155,11 +158,7 @@ class LinkState:
 
     def share_rotation(self, other: "LinkState") -> None:
         """Take ``other``'s rotation (a link translating on it), made only if it is read."""
-        if other._turn is not None:
-            self._turn = other._turn
-            self._rot = self._rot_xy = None
-        else:
-            self._rot, self._rot_xy = other._rot, other._rot_xy
+        self._turn, self._rot, self._rot_xy = other._turn, other._rot, other._rot_xy
 
     def __repr__(self) -> str:
         return f"LinkState(a0={self.a0!r}, A={self.A!r}, rot={self.rot!r}, omega={self.omega!r})"

@@ -17,7 +17,7 @@ from ..model.linkage import JointKind, Linkage
 from . import kernels as K
 from .steps import StepPlan
 from .structure import MODAL_KINDS, Group, GroupKind
-from .tolerances import RATE_REL
+from .tolerances import RATE_EPS, RATE_REL
 
 
 __all__ = ["Solution", "unwrap_finite"]
@@ -119,6 +119,8 @@ class Solution:
         All False for a solve of order 0."""
         if self.order < 1:
             return np.zeros(len(self), dtype=bool)
+        if self._rates_valid is None and self._rates_bounded():
+            self._rates_valid = self.valid.copy()   # known without a pass over the samples
         if self._rates_valid is None:
             ok = self.valid.copy()
             eps = np.finfo(float).eps
@@ -130,13 +132,47 @@ class Solution:
                     c = np.broadcast_to(np.asarray(out.cond, dtype=float), ok.shape)
                     if step.group.kind in MODAL_KINDS:
                         c = c * c
-                    ok &= 8.0 * eps * (1.0 + step.coord / step.scale) <= RATE_REL * c
+                    ok &= RATE_EPS * eps * (1.0 + step.coord / step.scale) <= RATE_REL * c
                 for st in self._states.values():
                     rates = [*st.vxy, st.omega] + ([*st.axy, st.alpha] if self.order >= 2 else [])
                     for r in rates:
                         ok &= np.broadcast_to(np.isfinite(np.asarray(r)), ok.shape)
             self._rates_valid = ok
         return self._rates_valid
+
+    def _rates_bounded(self) -> bool:
+        """The rates are finite (:meth:`_is_quiet`) and every group's conditioning is known, from
+        its kernel's lower bound (``DyadOut.cond_floor``), to keep the rates' estimated error below
+        RATE_REL at every sample: then :attr:`rates_valid` is ``valid``, with no pass over them."""
+        if not self._is_quiet():
+            return False
+        eps = np.finfo(float).eps
+        for step in self.plan.steps:
+            out = self._outs.get(step.group.name)
+            if out is None or step.group.fixed:
+                continue
+            f = out.cond_floor
+            if step.group.kind in MODAL_KINDS:
+                f = f * f
+            if not RATE_EPS * eps * (1.0 + step.coord / step.scale) <= RATE_REL * f:
+                return False
+        return True
+
+    def rate_error(self, group: str) -> np.ndarray:
+        """(N,) the estimated relative error of the rates ``group`` computes (its own part, not
+        what it inherits): 8·eps·(1 + coordinates/size)/cond² (/cond for PRP and RPP), the
+        estimate :attr:`rates_valid` compares with RATE_REL; 0 for a fixed group, inf where the
+        group is not assembled."""
+        out = self.group_output(group)
+        step = next(s for s in self.plan.steps if s.group.name == group)
+        if step.group.fixed:
+            return np.zeros(len(self))
+        with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+            c = np.broadcast_to(np.asarray(out.cond, dtype=float), (len(self),))
+            if step.group.kind in MODAL_KINDS:
+                c = c * c
+            e = RATE_EPS * np.finfo(float).eps * (1.0 + step.coord / step.scale) / c
+        return np.where(np.asarray(out.ok) & np.isfinite(e), e, np.inf)
 
     @property
     def singular(self) -> np.ndarray:

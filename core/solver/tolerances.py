@@ -23,5 +23,7 @@ SINGULAR_REL = 1.5e-8
 #: relative error stays below RATE_REL: 8·eps·(1 + coordinates/size)/cond² for the two-mode groups
 #: near a toggle (rates lose eps·size/gap and gap ≈ size·cond²/8), /cond for PRP and RPP
 RATE_REL = 1e-6
+#: the factor of eps in that estimate
+RATE_EPS = 8.0
 
-__all__ = ["BRANCH_REL", "RATE_REL", "SINGULAR_REL", "TOGGLE_COND", "TOUCH_REL"]
+__all__ = ["BRANCH_REL", "RATE_EPS", "RATE_REL", "SINGULAR_REL", "TOGGLE_COND", "TOUCH_REL"]

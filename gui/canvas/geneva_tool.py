@@ -13,7 +13,7 @@ import math
 from mechsketch.core.model.edits import ReplaceElement
 from mechsketch.core.errors import GeometryError
 from mechsketch.core.model.drawing import DEFAULT_MIN_WEB
-from mechsketch.core.model.geneva import Clearances, Drawing, Geneva, Load, parse, wheel_dimensions
+from mechsketch.core.model.geneva import Clearances, Drawing, Geneva, Load, Material, parse, wheel_dimensions
 
 from ..selection import ELEMENT
 from . import ops
@@ -24,6 +24,8 @@ from .tool_base import Tool
 DEFAULT_SLOTS = 6
 #: reference drive the defaults are scaled from: A = 100 mm (seeds/NOTES.md, example 4)
 REF_A = 100.0
+#: (roller, wheel) materials of a drive the tool places (Edit › Preferences sets them)
+NEW_MATERIALS: tuple[Material, Material] = (Material(), Material())
 
 
 def scaled_drive(element_id: str, slots: int, crank_center: XY, wheel_center: XY,
@@ -52,7 +54,8 @@ def scaled_drive(element_id: str, slots: int, crank_center: XY, wheel_center: XY
     # a drive smaller than the reference keeps a web in proportion (the default web is 1 mm)
     drawing = Drawing(min_web=DEFAULT_MIN_WEB * s) if s < 1.0 else None
     return Geneva(element_id, int(slots), a, rp, 10.0 * s, cl, (float(crank_center[0]), float(crank_center[1])),
-                  math.degrees(math.atan2(dy, dx)), speed_rpm, load, drawing=drawing)
+                  math.degrees(math.atan2(dy, dx)), speed_rpm, load, drawing=drawing,
+                  roller_material=NEW_MATERIALS[0], wheel_material=NEW_MATERIALS[1])
 
 
 def problems_of(element: Geneva) -> str | None:
@@ -76,6 +79,15 @@ class GenevaTool(Tool):
         super().reset()
         self._centre: XY | None = None
         self._last: XY | None = None
+
+    def anchor(self) -> XY | None:
+        return self._centre
+
+    def forget(self, gone=None) -> bool:
+        """Also forget the drive just placed (keys 3-9 re-slot it) once it is gone."""
+        if gone is None or self.placed in gone:
+            self.placed = None
+        return super().forget(gone)
 
     def _candidate(self, pos: XY) -> tuple[Geneva | None, str | None]:
         eid = ops.fresh_element_id(self.ctx.controller.scene.ids, "geneva")

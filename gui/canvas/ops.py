@@ -54,6 +54,10 @@ def fresh_element_id(ids: Iterable[str], stem: str = "linkage") -> str:
     return f"{stem}{n}"
 
 
+#: samples per cycle of a linkage the tools start (Edit › Preferences sets it)
+NEW_LINKAGE_SAMPLES = 360
+
+
 def new_linkage(element_id: str, pivot: Joint, ground: str = "ground") -> Linkage:
     """A linkage being drawn: a frame with one ground pivot and no driver yet.
 
@@ -61,7 +65,7 @@ def new_linkage(element_id: str, pivot: Joint, ground: str = "ground") -> Linkag
     "no driver yet" (a message, not an error of the app).
     """
     return Linkage(element_id, (pivot,), (Link(ground, (pivot.id,)),), ground,
-                   Driver("crank", pivot.id, DEFAULT_RPM))
+                   Driver("crank", pivot.id, DEFAULT_RPM), samples=NEW_LINKAGE_SAMPLES)
 
 
 def has_driver(linkage: Linkage) -> bool:

@@ -1,10 +1,13 @@
 """The diagnostics panel: for each linkage, mobility, the Assur groups found (kind, mode), reachable
-input ranges, dead points, transmission-angle range, and the solve's time and loop-closure error.
+input ranges, dead points, transmission-angle range, and the solve's time and loop-closure error;
+when it has masses or loads, the forces summary too (peak and RMS driving effort, peak reaction of
+each joint, shaking force and moment, power-balance residual, the result with friction).
 
 Each element shows its result's summary: the text of ``mechsketch analyze --summary`` for a
-linkage or a Geneva drive, of ``mechsketch synthesize --summary`` for a rolling lever (one text,
-in core/analyses, shared by CLI and GUI), so every number here can be reproduced headless. An
-element that cannot be solved shows the core's message.
+linkage or a Geneva drive (``analyze --forces --summary`` for a linkage with masses or loads), of
+``mechsketch synthesize --summary`` for a rolling lever (one text, in core/analyses, shared by CLI
+and GUI), so every number here can be reproduced headless. An element that cannot be solved shows
+the core's message.
 """
 from __future__ import annotations
 
@@ -12,10 +15,13 @@ import html
 
 from PySide6.QtWidgets import QTextBrowser, QVBoxLayout, QWidget
 
+from mechsketch.core import MechsketchError
 from mechsketch.core.model.linkage import Linkage
+from mechsketch.core.model.underlay import Underlay
 
 from ..controller import SceneController
 from .lazy import LazyRefresh
+from ..qtsafe import qt_safe
 
 
 def diagnostics_lines(controller: SceneController) -> list[tuple[str, str]]:
@@ -37,11 +43,27 @@ def diagnostics_lines(controller: SceneController) -> list[tuple[str, str]]:
         out.append(("head", head))
         out.extend(("", line) for line in rest)
         out.append(("", f"solve + diagnostics in the app: {res.seconds * 1e3:.2f} ms"))
+        if el.has_dynamics:
+            out.extend(force_lines(controller, el.id))
     return out
 
 
+def force_lines(controller: SceneController, element_id: str) -> list[tuple[str, str]]:
+    """The forces summary of a linkage (the text ``analyze --forces --summary`` adds), computed
+    when first asked and cached by the workspace; the core's message if it cannot be computed."""
+    from mechsketch.core.analyses.forces.report import force_summary
+
+    try:
+        head, *rest = force_summary(controller.workspace.forces(element_id)).splitlines()
+    except MechsketchError as exc:
+        return [("error", f"forces: {exc}")]
+    return [("head", head), *(("", line.strip()) for line in rest)]
+
+
 def _element_lines(controller: SceneController, el) -> list[tuple[str, str]]:
-    """The summary (or the error) of a Geneva drive or rolling lever."""
+    """The summary (or the error) of a Geneva drive or rolling lever; what an underlay is."""
+    if isinstance(el, Underlay):
+        return underlay_lines(el)
     res = controller.element_result(el.id)
     if res is None:   # a type this version of the app does not solve
         return [("head", f"{el.type} {el.id}"),
@@ -57,6 +79,19 @@ def _element_lines(controller: SceneController, el) -> list[tuple[str, str]]:
     return out
 
 
+def underlay_lines(u: Underlay) -> list[tuple[str, str]]:
+    """An underlay: what it holds, its placement and size (mm), whether it is shown."""
+    x0, y0, x1, y1 = u.world_bounds()
+    pl = u.placement
+    what = (f"picture {u.image.width}×{u.image.height} px" if u.image is not None else
+            f"drawing: {len(u.paths)} paths, {sum(len(p) for p in u.paths):,} points")
+    return [("head", f"underlay {u.id}: {u.name}"), ("", what),
+            ("", f"placed at {pl.scale:.6g} mm per unit, turned {pl.angle_deg:.4g}°: {x1 - x0:.4g} × {y1 - y0:.4g} mm "
+                 f"from ({x0:.4g}, {y0:.4g})"),
+            ("", "shown; its points snap" if u.visible else "hidden (its points do not snap)")]
+
+
+@qt_safe
 class DiagnosticsPanel(LazyRefresh, QWidget):
     """Read-only text of :func:`diagnostics_lines`, refreshed when the solutions change — during a
     drag only on the release (the text needs the full diagnostics and the motion classification,

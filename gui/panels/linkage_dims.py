@@ -29,11 +29,11 @@ from mechsketch.core.model.drivers import DriverKind, LawKind, MotionLaw
 from mechsketch.core.model.linkage import Driver, JointKind, Linkage
 from mechsketch.core.solver.dimensions import SetDimension, dimensions
 
+from .. import units
+
 #: the laws offered in the driver box (a table law comes from a file or the Python API)
 LAWS = (("constant speed", LawKind.CONSTANT), ("cycloidal", LawKind.CYCLOIDAL), ("harmonic", LawKind.HARMONIC),
         ("modified trapezoid", LawKind.MODIFIED_TRAPEZOID))
-#: table rows shown before the dimension table scrolls
-TABLE_ROWS = 8
 
 
 def field_name(key: str) -> str:
@@ -74,8 +74,11 @@ def dimensions_box(panel, eid: str) -> QGroupBox:
     table.setHorizontalHeaderLabels(["link", "dimension", "value", "unit"])
     table.verticalHeader().setVisible(False)
     head = table.horizontalHeader()
-    head.setSectionResizeMode(QHeaderView.ResizeMode.ResizeToContents)
-    head.setSectionResizeMode(2, QHeaderView.ResizeMode.Stretch)
+    head.setSectionResizeMode(QHeaderView.ResizeMode.ResizeToContents)   # values are read whole,
+    head.setSectionResizeMode(1, QHeaderView.ResizeMode.Stretch)         # a long label is elided
+    table.setTextElideMode(Qt.TextElideMode.ElideMiddle)
+    table.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)   # every row shown:
+    table.setVerticalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)     # the panel scrolls
     table.setSelectionMode(QAbstractItemView.SelectionMode.SingleSelection)
     table.setEditTriggers(QAbstractItemView.EditTrigger.DoubleClicked | QAbstractItemView.EditTrigger.EditKeyPressed
                           | QAbstractItemView.EditTrigger.AnyKeyPressed)
@@ -92,8 +95,9 @@ def dimensions_box(panel, eid: str) -> QGroupBox:
             keys[:] = [d.key for d in rows]
             table.setRowCount(len(rows))
             for r, d in enumerate(rows):
-                for c, text in ((0, d.link), (1, d.label), (3, d.unit)):
+                for c, text in ((0, d.link), (1, d.label), (3, units.display_unit(d.unit))):
                     item = QTableWidgetItem(text)
+                    item.setToolTip(text)
                     item.setFlags(item.flags() & ~Qt.ItemFlag.ItemIsEditable)
                     table.setItem(r, c, item)
                 item = QTableWidgetItem()
@@ -101,21 +105,19 @@ def dimensions_box(panel, eid: str) -> QGroupBox:
                 item.setToolTip(d.key)
                 table.setItem(r, 2, item)
         for r, d in enumerate(rows):
-            table.item(r, 2).setText(f"{d.value:.6f}".rstrip("0").rstrip("."))
+            table.item(r, 2).setText(units.format_value(d.value, d.unit))   # in the display unit
         table.blockSignals(False)
-        visible = min(len(rows), TABLE_ROWS)
-        table.setFixedHeight(head.height() + 4 + sum(table.rowHeight(r) for r in range(visible)))
+        table.setFixedHeight(head.height() + 4 + sum(table.rowHeight(r) for r in range(len(rows))))
 
     def edited(item: QTableWidgetItem) -> None:
         if item.column() != 2:
             return
         key = item.data(Qt.ItemDataRole.UserRole)
-        try:
-            value = float(item.text().strip())
-            if not math.isfinite(value):
-                raise ValueError
-        except ValueError:
-            panel.controller.message.emit(f"{key}: {item.text()!r} is not a number")
+        try:   # typed in the display unit (or with its own); back in the model's
+            value = units.parse(item.text(), next(d.unit for d in dimensions(panel.controller.scene.element(eid))
+                                                  if d.key == key))
+        except ValueError as exc:
+            panel.controller.message.emit(f"{key}: {exc}")
             show()
             return
         try:

@@ -4,12 +4,14 @@ by the plots panel.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Callable
 
 import numpy as np
 
 from mechsketch.core.io.table import Table
+
+from .. import units
 
 PLOTS = (("position", "position"), ("velocity", "velocity"), ("acceleration", "acceleration"),
          ("transmission", "transmission angle μ (°)"))
@@ -46,6 +48,9 @@ class PlotData:
     frame_x: np.ndarray | None = None
     #: the table "Export plot data as CSV" writes, when not the plotted columns
     make_table: Callable[[], Table] | None = None
+    #: the kind of element plotted ("linkage", "geneva", "rolling_lever"): which plots the user
+    #: chose to see is remembered per kind
+    kind: str = "linkage"
 
     def table(self) -> Table:
         """The plotted data as a table: ``input_deg`` (``input_mm`` for an actuator) then one
@@ -58,3 +63,23 @@ class PlotData:
                 continue
             cols[f"{s.name}_{s.unit}".replace("/", "_per_").replace("²", "2").replace("°", "deg")] = s.y
         return Table.from_columns(cols)
+
+
+def in_display_units(data: PlotData) -> PlotData:
+    """``data`` with its x values, curves and axis labels in the display units (Edit ›
+    Preferences: mm or in, ° or rad; :mod:`mechsketch.gui.units`); ``data`` itself in the model's."""
+    u = units.current()
+    if u == units.MODEL:
+        return data
+    x_model = "mm" if data.x_unit == "mm" else "°"
+
+    def shown_x(x: np.ndarray | None) -> np.ndarray | None:
+        return None if x is None else units.to_display(x, x_model, u)
+
+    series = [replace(s, unit=units.display_unit(s.unit, u), y=units.to_display(s.y, s.unit, u), x=shown_x(s.x))
+              for s in data.series]
+    x_unit = units.display_unit(x_model, u).replace("°", "deg")
+    return replace(data, x=shown_x(data.x), frame_x=shown_x(data.frame_x), series=series,
+                   labels={k: units.relabel(v, u) for k, v in data.labels.items()},
+                   rows=tuple((n, units.relabel(t, u)) for n, t in data.rows),
+                   x_label=units.relabel(data.x_label, u), x_unit=x_unit)

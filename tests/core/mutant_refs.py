@@ -139,6 +139,94 @@ class RppChainMp:
 
 
 # ---------------------------------------------------------------------------------------------
+# PRP whose two guides both turn (one on the rocker, one on the crank)
+# ---------------------------------------------------------------------------------------------
+def prp_both_guides_turn(g1_deg: float = 75.0, g2_deg: float = -15.0, rpm: float = 95.4929658551372,
+                         eid: str = "prp_turning") -> Linkage:
+    """Four-bar A–B–C–D (crank 40, coupler 140, rocker 120, ground 160) plus a PRP group: block 1
+    slides on a guide of the rocker (axis through Q1 at ``g1_deg``), block 2 on a guide of the
+    coupler (through Q2 at ``g2_deg``), the two blocks pinned together at L, where the two guide
+    lines meet in the drawn pose. Both guides turn with angular acceleration; their angle changes
+    as the transmission angle does (by ~46°), so they stay far from parallel. (A guide on the
+    crank would turn fully against the rocker's: parallel twice a turn.)"""
+    fb = fourbar(eid=eid, rpm=rpm)
+    at = {j.id: complex(*j.at) for j in fb.joints}
+    Q1 = at["D"] + 0.5 * (at["C"] - at["D"]) + 10j
+    Q2 = at["B"] + 0.4 * (at["C"] - at["B"]) - 5j
+    u1, u2 = e(g1_deg), e(g2_deg)
+    t1 = ((Q2 - Q1).conjugate() * u2).imag / (u1.conjugate() * u2).imag   # L = Q1 + t1·u1 = Q2 + t2·u2
+    L = Q1 + t1 * u1
+    return _extend(fb, eid, [("Q1", "P", xy(Q1), g1_deg), ("L", "R", xy(L)), ("Q2", "P", xy(Q2), g2_deg)],
+                   {"rocker": ["Q1"], "coupler": ["Q2"], "block1": ["Q1", "L"], "block2": ["L", "Q2"]})
+
+
+class PrpBothTurnMp:
+    """The linkage of :func:`prp_both_guides_turn` in closed form, in mpmath: the four-bar by
+    circle intersection, L as the meeting point of the two guide lines as the rocker and the crank
+    carry them, each block turning with its guide's link (written from the geometry alone).
+    ``point(link, p0, theta)``, ``pva`` and ``omega_alpha`` as :class:`RppChainMp`; ``slide(i,
+    theta)``: block i's displacement along its guide from the drawn pose (mm)."""
+
+    def __init__(self, linkage: Linkage, dps: int = DPS):
+        self.lk, self.dps = linkage, dps
+        with mpmath.workdps(dps):
+            self.at = at = {j.id: _mpc(j.at) for j in linkage.joints}
+            self.ax = {j.id: mpmath.expjpi(mpmath.mpf(j.axis_deg) / 180) for j in linkage.joints
+                       if j.axis_deg is not None}
+            self.crank, self.coupler = abs(at["B"] - at["A"]), abs(at["C"] - at["B"])
+            self.rocker = abs(at["C"] - at["D"])
+            self.mode = 1 if _cross(at["D"] - at["B"], at["C"] - at["B"]) > 0 else -1
+            self.theta0 = mpmath.arg(at["B"] - at["A"])
+
+    def _solve(self, theta):
+        at, ax = self.at, self.ax
+        A, D = at["A"], at["D"]
+        B = A + self.crank * mpmath.expj(theta)
+        d = D - B
+        dd = abs(d)
+        a = (self.coupler ** 2 - self.rocker ** 2 + dd ** 2) / (2 * dd)
+        C = B + d / dd * (a + 1j * self.mode * mpmath.sqrt(self.coupler ** 2 - a ** 2))
+        Rc, Rr = mpmath.expj(theta - self.theta0), (C - D) / (at["C"] - D)
+        Rk = (C - B) / (at["C"] - at["B"])
+        Z1, w1 = D + Rr * (at["Q1"] - D), Rr * ax["Q1"]       # guide 1 (rocker): point and direction
+        Z2, w2 = B + Rk * (at["Q2"] - at["B"]), Rk * ax["Q2"]  # guide 2 (coupler)
+        t1 = _cross(Z2 - Z1, w2) / _cross(w1, w2)
+        L = Z1 + t1 * w1
+        rot = {"crank": Rc, "coupler": Rk, "rocker": Rr, "block1": Rr, "block2": Rk}
+        anchor = {"crank": (A, A), "coupler": (B, at["B"]), "rocker": (D, D), "block1": (L, at["L"]),
+                  "block2": (L, at["L"])}
+        slides = (_cross(L - Z1, 1j * w1), _cross(L - Z2, 1j * w2))   # along each guide (−cross(·, J·w) = dot)
+        return rot, anchor, slides
+
+    def point(self, link: str, p0, theta):
+        rot, anchor, _ = self._solve(theta)
+        a, a0 = anchor[link]
+        return a + rot[link] * (_mpc(p0) - a0)
+
+    def pva(self, link: str, p0, theta, omega):
+        with mpmath.workdps(self.dps):
+            th, w = mpmath.mpf(theta), mpmath.mpf(omega)
+            p, d1, d2 = mpmath.diffs(lambda t: self.point(link, p0, t), th, 2)
+            return p, w * d1, w * w * d2
+
+    def omega_alpha(self, link: str, theta, omega):
+        with mpmath.workdps(self.dps):
+            th, w = mpmath.mpf(theta), mpmath.mpf(omega)
+            ref = self._solve(th)[0][link]
+            _, d1, d2 = mpmath.diffs(lambda t: mpmath.arg(self._solve(t)[0][link] / ref), th, 2)
+            return w * d1, w * w * d2
+
+    def slide(self, i: int, theta, omega):
+        """Block i's (0: on the rocker's guide, 1: on the coupler's) displacement along its guide from
+        the drawn pose and its first two time derivatives (mm, mm/s, mm/s²)."""
+        with mpmath.workdps(self.dps):
+            th, w = mpmath.mpf(theta), mpmath.mpf(omega)
+            s0 = self._solve(self.theta0)[2][i]
+            p, d1, d2 = mpmath.diffs(lambda t: self._solve(t)[2][i] - s0, th, 2)
+            return p, w * d1, w * w * d2
+
+
+# ---------------------------------------------------------------------------------------------
 # the four-bar whose coupler cannot always reach the rocker
 # ---------------------------------------------------------------------------------------------
 def rrr_feasible_cos(crank: float, ground: float, coupler: float, rocker: float):

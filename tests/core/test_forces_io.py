@@ -175,8 +175,11 @@ def test_analyze_forces_writes_exactly_the_issue_columns(capsys, tmp_path):
     plain = list(csv.reader(io.StringIO(_csv(["analyze", LOADED, "--csv", "-"], capsys))))[0]
     added = head[len(plain):]
     assert head[:len(plain)] == plain
-    assert added == ["driver.torque", "A.Fx", "A.Fy", "B.Fx", "B.Fy", "C.Fx", "C.Fy", "D.Fx", "D.Fy",
-                     "shaking.Fx", "shaking.Fy", "shaking.M", "driver.torque_friction"]
+    forces = ["driver.torque", "A.Fx", "A.Fy", "B.Fx", "B.Fy", "C.Fx", "C.Fy", "D.Fx", "D.Fy",
+              "shaking.Fx", "shaking.Fy", "shaking.M", "driver.torque_friction"]
+    # the forces, the row's flag (issue 20: forces only where the rates are valid) and each
+    # column's error estimate
+    assert added == forces + ["forces_valid"] + [f"{c}.err" for c in forces]
     assert len(rows) == 361
     ws = Workspace.open(LOADED)
     res = ws.forces("loaded_fourbar")
@@ -196,7 +199,8 @@ def _csv(argv, capsys) -> str:
 def test_a_scene_without_friction_has_no_friction_column(capsys):
     out = _csv(["analyze", example_path("slider_crank_offset"), "--forces", "--csv", "-"], capsys)
     head = out.splitlines()[0].split(",")
-    assert head[-4:] == ["C.Fy", "shaking.Fx", "shaking.Fy", "shaking.M"] and "driver.torque" in head
+    forces = head[head.index("driver.torque"):head.index("forces_valid")]
+    assert forces[-4:] == ["C.Fy", "shaking.Fx", "shaking.Fy", "shaking.M"]
     assert not any(c.startswith("S.") and c.endswith("Fx") for c in head)   # S is prismatic: no pin columns
 
 
@@ -249,12 +253,14 @@ def test_samples_that_cannot_be_assembled_have_no_forces(capsys, tmp_path):
     ws.apply(ReplaceElement(lk, "masses"))
     res = ws.forces(lk.id)
     sol = ws.solve(lk.id)
-    assert not sol.valid.all() and np.array_equal(res.valid, sol.valid)
+    assert not sol.valid.all() and np.array_equal(res.valid, sol.rates_valid)
     assert np.isnan(res.driver.values[~res.valid]).all() and np.isfinite(res.driver.values[res.valid]).all()
     assert res.power.worst < 1e-12
     from mechsketch.core.analyses.forces.report import force_summary, force_table
 
-    assert f"{int((~res.valid).sum())} samples not assembled" in force_summary(res)
+    assert f"{int((~res.valid).sum())} samples without forces (forces_valid 0)" in force_summary(res)
     text = force_table(res).to_csv().splitlines()
     bad = int(np.flatnonzero(~res.valid)[0])
-    assert set(text[bad + 1].split(",")) == {""}
+    row = text[bad + 1].split(",")
+    assert row[text[0].split(",").index("forces_valid")] == "0"
+    assert set(row) == {"", "0"}

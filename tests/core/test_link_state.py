@@ -51,12 +51,17 @@ def test_turned_rotation_is_v_over_v0_and_points_agree_before_and_after_it_is_ma
     st = LinkState.turned(1.0 + 1.0j, _pair(), (vx, vy), v0)
     p0 = -4.0 + 9.0j
     before = st.point(p0)                       # turned straight from v, rot not made
-    assert st._turn is not None
+    assert st._rot is None and st._rot_xy is None
     rot = st.rot
-    assert st._turn is None
     assert np.allclose(rot, (vx + 1j * vy) / v0, rtol=1e-15, atol=0)
     fresh = LinkState.real(st.a0, st.xy, st.cs)
     assert np.allclose(fresh.point(p0), before, rtol=0, atol=1e-12)
+    # a point first read after the rotation was made has the same bits as one read before
+    # (issue 20 item 4: a cached solution whose rotations the forces made equals a fresh one)
+    q0 = 7.0 - 2.0j
+    other = LinkState.turned(1.0 + 1.0j, st.xy, (vx, vy), v0)
+    want = other.point(q0)
+    assert np.array_equal(st.point(q0), want)
 
 
 def test_a_new_rotation_or_anchor_moves_the_kept_points():

@@ -17,6 +17,7 @@ item 6), each against an independent reference:
 """
 from __future__ import annotations
 
+import cmath
 import math
 
 import mpmath
@@ -105,6 +106,89 @@ def test_the_rpp_reference_sees_a_wrong_guide_acceleration():
     bad = sol.point_acceleration("yoke", p0)[k] + om * om * r
     assert float(abs(mpmath.mpc(*bad) - A)) > 1e-3 * float(abs(A))
     assert float(abs(mpmath.mpc(*sol.point_acceleration("yoke", p0)[k]) - A)) < 1e-12 * float(abs(A))
+
+
+# ---------------------------------------------------------------------------------------------
+# 1b. PRP whose two guides both turn (issue 20, item 13: kernels.prp's second Coriolis term)
+# ---------------------------------------------------------------------------------------------
+@pytest.mark.parametrize("g1,g2,rpm", [(75.0, -15.0, 95.4929658551372), (110.0, 30.0, -60.0)])
+def test_prp_with_both_guides_turning_against_mpmath(g1, g2, rpm):
+    """Kills the mutant that drops the second guide's Coriolis term 2·ω2·ṡ2·(J·u2) from the
+    acceleration system of kernels.prp (162 solver tests passed without it: every PRP tested had
+    its second guide on the frame): block 1 slides on the rocker's guide, block 2 on the
+    coupler's, both turning with angular acceleration; positions, velocities, accelerations,
+    ω, α of every link and both slides' s, ṡ, s̈ against the closed form in mpmath
+    (:class:`mutant_refs.PrpBothTurnMp`, differentiated by ``mpmath.diffs``)."""
+    lk = MR.prp_both_guides_turn(g1, g2, rpm=rpm)
+    assert mobility(lk) == 1
+    plan = compile_plan(lk)
+    (g,) = [g for g in plan.groups if g.kind == "PRP"]
+    assert {g.known_i, g.known_j} == {"rocker", "coupler"}     # both guides on moving links
+    n = 24
+    sol = plan.sweep(samples=n, order=2)
+    assert sol.valid.all() and np.min(sol.conditioning(g.name)) > 0.3
+    ref = MR.PrpBothTurnMp(lk)
+    w = sol.omega_driver
+    size = LB.size_of(lk)
+    out = sol.group_output(g.name)
+    which = {g.outer_i: 0, g.outer_j: 1}                          # slide index by its P joint
+    slide_of = {which["Q1"]: 0, which["Q2"]: 1}                   # the reference's 0: Q1 (rocker), 1: Q2 (coupler)
+    err = dict(pos=0.0, vel=0.0, acc=0.0, omega=0.0, alpha=0.0, s=0.0, sd=0.0, sdd=0.0)
+    scale = dict(vel=0.0, acc=0.0, omega=0.0, alpha=0.0, sd=0.0, sdd=0.0)
+    for k in range(n):
+        th = float(sol.input[k])
+        for link in ("coupler", "rocker", "block1", "block2"):
+            for j in lk.link(link).joints:
+                p0 = lk.joint(j).at
+                P, V, A = ref.pva(link, p0, th, w)
+                for name, got, want in (("pos", sol.point(link, p0)[k], P),
+                                        ("vel", sol.point_velocity(link, p0)[k], V),
+                                        ("acc", sol.point_acceleration(link, p0)[k], A)):
+                    err[name] = max(err[name], float(abs(mpmath.mpc(*got) - want)))
+                    if name != "pos":
+                        scale[name] = max(scale[name], float(abs(want)))
+            om, al = ref.omega_alpha(link, th, w)
+            err["omega"] = max(err["omega"], abs(sol.omega(link)[k] - float(om)))
+            err["alpha"] = max(err["alpha"], abs(sol.alpha(link)[k] - float(al)))
+            scale["omega"] = max(scale["omega"], abs(float(om)))
+            scale["alpha"] = max(scale["alpha"], abs(float(al)))
+        for idx, i in slide_of.items():
+            s_, sd, sdd = ref.slide(i, th, w)
+            sl = out.slides[idx]
+            err["s"] = max(err["s"], abs(sl.s[k] - float(s_)))
+            err["sd"] = max(err["sd"], abs(sl.sd[k] - float(sd)))
+            err["sdd"] = max(err["sdd"], abs(sl.sdd[k] - float(sdd)))
+            scale["sd"] = max(scale["sd"], abs(float(sd)))
+            scale["sdd"] = max(scale["sdd"], abs(float(sdd)))
+    assert err["pos"] <= 1e-13 * size and err["s"] <= 1e-13 * size, err
+    for name in ("vel", "acc", "omega", "alpha", "sd", "sdd"):
+        assert err[name] <= 1e-12 * scale[name], (name, err, scale)
+    # both guides really turn and both blocks really slide: each Coriolis term 2·ω·ṡ is far
+    # above the tolerance the accelerations meet
+    for link, joint in (("rocker", "Q1"), ("coupler", "Q2")):
+        cor = np.max(np.abs(2.0 * sol.omega(link) * out.slides[which[joint]].sd))
+        assert cor > 1e-6 * scale["acc"], (link, cor, scale)
+
+
+def test_the_prp_reference_sees_a_dropped_coriolis_term():
+    """The check above is not blind: the second guide's Coriolis term 2·ω2·ṡ2·J·u2 (on the
+    coupler), computed from the core's own slides and rates, is far above the tolerance within
+    which block 2's acceleration matches the reference, so leaving it out fails the check."""
+    lk = MR.prp_both_guides_turn()
+    plan = compile_plan(lk)
+    (g,) = [g for g in plan.groups if g.kind == "PRP"]
+    sol = plan.sweep(samples=12, order=2)
+    ref = MR.PrpBothTurnMp(lk)
+    out = sol.group_output(g.name)
+    j2 = 1 if g.outer_j == "Q2" else 0                            # the slide on the coupler's guide
+    k, w = 5, sol.omega_driver
+    th = float(sol.input[k])
+    _, _, A = ref.pva("block2", lk.joint("L").at, th, w)
+    got = sol.point_acceleration("block2", lk.joint("L").at)[k]
+    assert float(abs(mpmath.mpc(*got) - A)) < 1e-12 * float(abs(A))
+    u2 = cmath.exp(1j * math.radians(lk.joint("Q2").axis_deg)) * cmath.exp(1j * float(sol.rotation("coupler")[k]))
+    coriolis = 2.0 * float(sol.omega("coupler")[k]) * out.slides[j2].sd[k] * 1j * u2
+    assert abs(coriolis) > 1e-3 * float(abs(A))                  # far above the tolerance
 
 
 # ---------------------------------------------------------------------------------------------

@@ -14,6 +14,7 @@ from mechsketch.core import (ExportError, SceneFormatError, dumps_scene, load_sc
                              save_scene, validate_file)
 from mechsketch.core.cli import main as cli_main
 from mechsketch.core.io import scene_file
+from mechsketch.core.model.scene import SCHEMA_VERSION
 from mechsketch.resources import example_path, example_paths
 
 BASE = json.loads(example_path("slider_crank_offset").read_text(encoding="utf-8"))
@@ -131,7 +132,7 @@ BAD = [
      "must not be zero"),
     ("unknown element type", lambda d: el(d).__setitem__("type", "gearbox"), "$.elements[0].type", "slider_crank",
      "gearbox"),
-    ("newer file", lambda d: d.__setitem__("schema_version", 3), "$.schema_version", None, "newer"),
+    ("newer file", lambda d: d.__setitem__("schema_version", SCHEMA_VERSION + 1), "$.schema_version", None, "newer"),
     ("version as text", lambda d: d.__setitem__("schema_version", "1"), "$.schema_version", None, "whole number"),
     ("version zero", lambda d: d.__setitem__("schema_version", 0), "$.schema_version", None, "whole number"),
     ("not a scene", lambda d: d.__setitem__("format", "dxf"), "$.format", None, "not a mechsketch scene"),

@@ -134,7 +134,7 @@ def test_the_error_hook_reports_autosaves_and_keeps_running(shell, tmp_path):
     title, text, details = parts.dialogs.errors[-1]
     assert title == "Unexpected error" and "RuntimeError: boom" in text and "autosaved" in text
     assert "Traceback" in details
-    assert parts.autosave.scene_file.is_file()
+    assert parts.autosave.recovery_file.is_file()
     assert parts.window.isVisible() and parts.controller.is_dirty
 
 
@@ -169,7 +169,7 @@ def test_discard_on_close(shell):
     parts.controller.push(MoveJoint("fourbar", "B", (21.0, 35.0)), "move joint B")
     parts.dialogs.save_changes.append(DISCARD)
     assert parts.window.close() is True
-    assert not parts.autosave.scene_file.exists()
+    assert not parts.autosave.recovery_file.exists()
 
 
 def test_fake_dialogs_default_to_cancel():

@@ -52,7 +52,8 @@ from ...model.linkage import JointKind, Linkage
 from ...solver.kernels import cross
 from ...solver.plan import Plan, Solution
 from ...solver.structure import Group
-from .passes import MM, Kinetostatics, Pass, _pin_force
+from .errors import force_errors
+from .passes import MM, Kinetostatics, Pass, _neg, _pin_force
 
 __all__ = ["COND_WARN", "DeadPointNote", "DriverEffort", "ForceResult", "FrictionResult", "MM",
            "PowerBalance", "SlideReaction", "input_label", "linkage_forces"]
@@ -168,9 +169,11 @@ class ForceResult:
     link from the joint} for every link after the first in file order; ``slides`` prismatic
     joint -> :class:`SlideReaction`; ``shaking_force`` (N, 2) N and ``shaking_moment`` (N,) N·m
     on the frame (moment about the driver pivot); :attr:`power` the :class:`PowerBalance`
-    (computed on first access); ``conditioning`` group -> (N,) in [0, 1]; ``friction`` the result with joint friction (None
-    without); ``valid`` (N,) where the pose is assembled and the forces finite (NaN elsewhere);
-    ``seconds`` the time of the force computation (not the kinematics).
+    (computed on first access); :attr:`errors` the estimated error of every column (computed on
+    first access, :mod:`.errors`); ``conditioning`` group -> (N,) in [0, 1]; ``friction`` the
+    result with joint friction (None without); ``valid`` (N,) where the kinematics with its rates
+    is valid (``Solution.rates_valid``: assembled, not at a toggle) and the forces finite — every
+    force is NaN elsewhere; ``seconds`` the time of the force computation (not the kinematics).
     """
 
     linkage: Linkage
@@ -191,9 +194,23 @@ class ForceResult:
     _notes: list | None = field(default=None, repr=False)
     _power: PowerBalance | None = field(default=None, repr=False)
     _power_args: tuple | None = field(default=None, repr=False)
+    _errors: dict | None = field(default=None, repr=False)
+    _error_args: tuple | None = field(default=None, repr=False)
 
     def __len__(self) -> int:
         return self.input.shape[0]
+
+    @property
+    def errors(self) -> dict[str, np.ndarray]:
+        """Per force column (``driver.torque``, ``J.Fx``, ``shaking.M``, ...; and
+        ``slide.J.normal``, ``slide.J.moment``) its estimated absolute error, (N,) N or N·m, from
+        the conditioning of the group solves (:func:`~.errors.force_errors`); NaN where the
+        forces are not valid. Computed on first access."""
+        if self._errors is None:
+            plan, sol = self._error_args
+            self._errors = force_errors(self, plan, sol)
+            self._error_args = None
+        return self._errors
 
     @property
     def power(self) -> PowerBalance:
@@ -311,14 +328,14 @@ def _views(ks: Kinetostatics, p: Pass, valid: np.ndarray, all_valid: bool
         if j.kind is JointKind.R:
             if len(carriers) == 2:
                 on, f = single[j.id]
-                pins[j.id] = {carriers[1]: xy(f if on == carriers[1] else -f)}
+                pins[j.id] = {carriers[1]: xy(f if on == carriers[1] else _neg(f))}
             else:
                 pins[j.id] = {b: xy(_pin_force(p.pairs, j.id, b)) for b in carriers[1:]}
         elif j.id in p.slides:
             on, f, q, c = p.slides[j.id]
             by, later = carriers
             if on != later:
-                f, c = -f, -c
+                f, c = _neg(f), _neg(c)
             moment = MM * (c + cross(q - ks.point(later, ks.at[j.id]), f))
             normal = (f * np.conjugate(ks.normal(later, j.id))).real
             slides[j.id] = SlideReaction(j.id, by, later, xy(f), masked(normal), masked(moment))
@@ -361,7 +378,9 @@ def linkage_forces(plan: Plan, sol: Solution) -> ForceResult:
         effort = _arr(unit * p.effort, n)
         # every reaction a group finds is passed on to its known links and so, group by group,
         # to the frame (and the driver): a NaN or inf anywhere reaches these sums
-        valid = sol.valid & np.isfinite(effort + p.frame_moment) & np.isfinite(p.frame_force)
+        # and only where the kinematics' rates are (a force grows as 1/conditioning; at a toggle
+        # the accelerations are 0/0 or rounding noise, and so would every force be)
+        valid = sol.rates_valid & np.isfinite(effort + p.frame_moment) & np.isfinite(p.frame_force)
         all_valid = bool(valid.all())
         if not all_valid:
             effort = np.where(valid, effort, np.nan)
@@ -385,5 +404,6 @@ def linkage_forces(plan: Plan, sol: Solution) -> ForceResult:
                       friction, groups=tuple(s.group for s in plan.steps), unit=plan.input_unit)
     ks.release()
     res._power_args = (ks, effort * w, valid)
+    res._error_args = (plan, sol)
     res.seconds = time.perf_counter() - start
     return res

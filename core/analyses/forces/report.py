@@ -53,12 +53,19 @@ def force_columns(res: ForceResult) -> dict[str, np.ndarray]:
 
 
 def force_table(res: ForceResult, base: Table | None = None) -> Table:
-    """``base`` (the kinematic table, same rows) with the force columns appended, or those alone."""
+    """``base`` (the kinematic table, same rows) with the force columns appended, or those alone,
+    then ``forces_valid`` (1/0: the row's forces are given, where its kinematics with rates is
+    valid) and, per force column C, ``C.err``: its estimated error (same unit; empty where the
+    forces are not valid)."""
     cols = force_columns(res)
+    errors = res.errors
+    cols["forces_valid"] = res.valid.astype(float)
+    for name in list(cols)[:-1]:
+        cols[f"{name}.err"] = errors[name]
     if base is None:
-        return Table.from_columns(cols)
+        return Table.from_columns(cols, integer={"forces_valid"})
     extra = np.column_stack([np.asarray(v, dtype=float) for v in cols.values()])
-    return Table(base.columns + list(cols), np.column_stack([base.data, extra]), set(base.integer))
+    return Table(base.columns + list(cols), np.column_stack([base.data, extra]), set(base.integer) | {"forces_valid"})
 
 
 def _at(res: ForceResult, k: int) -> str:
@@ -78,39 +85,50 @@ def _rms(values: np.ndarray) -> float:
     return float(np.sqrt(np.mean(v * v))) if v.size else math.nan
 
 
+def _pm(err: np.ndarray, k: int) -> str:
+    """' (± e)': the error estimate at sample ``k`` (nothing where there is none)."""
+    e = float(err[k]) if err is not None and k < len(err) else math.nan
+    return f" (± {e:.1e})" if math.isfinite(e) else ""
+
+
 def force_summary(res: ForceResult) -> str:
     """Peak and RMS driving effort, the peak reaction of every joint, the shaking force and
-    moment, the worst power-balance residual, where forces blow up near dead points, and the
+    moment, each peak with its estimated error (``res.errors``), over the rows whose forces are
+    valid; the worst power-balance residual, where forces blow up near dead points, and the
     result with friction (the text of ``analyze --forces --summary``)."""
     lk = res.linkage
     d = res.driver
     unit = d.unit
+    err = res.errors
     lines = [f"forces of {lk.id!r} over {len(res)} samples (SI units; {res.seconds * 1e3:.2f} ms):"]
     if not lk.has_dynamics:
         lines.append("  no masses or loads: every force is zero (give links a mass or add loads)")
     peak, k = _peak(d.values)
-    lines.append(f"  driving {d.kind} ({d.link}): peak {peak:.6g} {unit} at input {_at(res, k)}, "
-                 f"RMS {_rms(d.values):.6g} {unit}")
+    lines.append(f"  driving {d.kind} ({d.link}): peak {peak:.6g} {unit}{_pm(err[d.column], k)} at input "
+                 f"{_at(res, k)}, RMS {_rms(d.values):.6g} {unit}")
     for prefix, joint, link in reaction_columns(res):
         mag = np.hypot(res.pins[joint][link][:, 0], res.pins[joint][link][:, 1])
         p, k = _peak(mag)
-        lines.append(f"  joint {prefix} (on {link}): peak |F| {p:.6g} N at input {_at(res, k)}")
+        lines.append(f"  joint {prefix} (on {link}): peak |F| {p:.6g} N{_pm(err[prefix + '.Fx'], k)} at input "
+                     f"{_at(res, k)}")
     for jid, s in res.slides.items():
         p, k = _peak(s.normal)
         m, km = _peak(s.moment)
-        lines.append(f"  slide {jid} (on {s.on}): peak normal force {abs(p):.6g} N at input {_at(res, k)}, "
-                     f"peak moment {abs(m):.6g} N·m at input {_at(res, km)}")
+        lines.append(f"  slide {jid} (on {s.on}): peak normal force {abs(p):.6g} N{_pm(err[f'slide.{jid}.normal'], k)} "
+                     f"at input {_at(res, k)}, peak moment {abs(m):.6g} N·m{_pm(err[f'slide.{jid}.moment'], km)} "
+                     f"at input {_at(res, km)}")
     sf = np.hypot(res.shaking_force[:, 0], res.shaking_force[:, 1])
     p, k = _peak(sf)
     m, km = _peak(res.shaking_moment)
-    lines.append(f"  shaking: peak |F| {p:.6g} N at input {_at(res, k)}, peak |M| {abs(m):.6g} N·m at "
-                 f"input {_at(res, km)} (about the driver pivot {lk.driver.pivot}"
-                 f"{'' if res.unit == 'rad' else ', as drawn'})")
+    lines.append(f"  shaking: peak |F| {p:.6g} N{_pm(err['shaking.Fx'], k)} at input {_at(res, k)}, peak |M| "
+                 f"{abs(m):.6g} N·m{_pm(err['shaking.M'], km)} at input {_at(res, km)} (about the driver pivot "
+                 f"{lk.driver.pivot}{'' if res.unit == 'rad' else ', as drawn'})")
     pw = res.power
     lines.append(f"  power balance (motor + loads − dKE/dt): worst relative residual {pw.worst:.2e}")
     invalid = int((~res.valid).sum())
     if invalid:
-        lines.append(f"  {invalid} samples not assembled or singular: no forces there")
+        lines.append(f"  {invalid} samples without forces (forces_valid 0): not assembled, or at a toggle where "
+                     f"the kinematics' rates are not valid")
     for note in res.dead_point_notes():
         lines.append(f"  near a dead point: {note}")
     fr = res.friction

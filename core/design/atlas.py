@@ -1,0 +1,259 @@
+"""Building and loading the atlas (records and storage: :mod:`.atlas_store`).
+
+Designs are drawn in the normalised frame of their topology (:data:`~.atlas_store.SPECS`) from a
+scrambled Sobol sequence (scipy.stats.qmc; chunk k always takes the same stretch of the sequence,
+so the atlas is the same whoever builds which chunk). A first screen in closed form keeps the
+designs whose crank can turn fully with a transmission angle above
+:data:`~.atlas_store.MIN_MU_DEG` (Grashof's condition and the extreme transmission angles at the
+crank's dead-centre lines; for the slider-cranks r + |e| ≤ l and its analogue); the survivors
+are solved over one crank turn in batches (:func:`solve_chunk`), and a design enters only where
+that solve assembles every sample without a branch jump and keeps the transmission angle above
+the minimum. Each of its coupler curves gets a Fourier descriptor (:mod:`.descriptors`), its
+output (the rocker's angle or the slider's position) the first harmonics over the turn.
+
+:func:`build_atlas` runs the chunks in this process, or on a Dask cluster when given a
+``dask.distributed`` client (each chunk one task; the results are the same). :func:`load_atlas`
+returns an atlas from memory, else from the cache folder, else builds and stores it, reporting
+progress.
+"""
+from __future__ import annotations
+
+import math
+import os
+import time
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from . import families as F
+from .atlas_store import (DEFAULT_DESIGNS, FUNC_HARMONICS, MIN_MU_DEG, POINTS, SAMPLES, SPECS, VERSION, Atlas,
+                          atlas_folder, family_params, read_atlas, save_atlas)
+from .descriptors import DESC_DIM, fourier_descriptor
+from .targets import DesignError, Progress, report
+
+#: designs drawn per chunk (before screening)
+CHUNK = 32_768   # a power of 2: the Sobol sequence keeps its balance per chunk
+
+
+@dataclass
+class Chunk:
+    """The designs of one chunk that entered, with their descriptors."""
+
+    shape: np.ndarray
+    points: np.ndarray
+    desc: np.ndarray
+    func: np.ndarray
+    turns: np.ndarray
+    mu: np.ndarray
+    drawn: int
+
+
+def _draw(topology: str, start: int, count: int, seed: int) -> tuple[np.ndarray, np.ndarray]:
+    """Designs ``start`` .. ``start + count`` of the Sobol sequence: (shape (n, S), points (n, P, 2))."""
+    from scipy.stats import qmc
+
+    spec = SPECS[topology]
+    dim = len(spec.names) + 2 * POINTS
+    sob = qmc.Sobol(dim, scramble=True, seed=seed)
+    if start:
+        sob.fast_forward(start)
+    u = sob.random(count)
+    cols = []
+    for k, ((lo, hi), lg) in enumerate(zip(spec.ranges, spec.log)):
+        cols.append(np.exp(math.log(lo) + u[:, k] * math.log(hi / lo)) if lg else lo + u[:, k] * (hi - lo))
+    shape = np.stack(cols, axis=1)
+    pu = u[:, len(spec.names):].reshape(count, POINTS, 2)
+    unit = shape[:, spec.names.index("b")][:, None] if spec.point_unit == "b" else 1.0   # "l1": set later
+    px = (spec.u[0] + pu[..., 0] * (spec.u[1] - spec.u[0])) * unit
+    py = (spec.v[0] + pu[..., 1] * (spec.v[1] - spec.v[0])) * unit
+    return shape, np.stack([px, py], axis=-1)
+
+
+def screen(topology: str, shape: np.ndarray, min_mu_deg: float = MIN_MU_DEG) -> np.ndarray:
+    """(n,) bool: the crank can turn fully and the transmission angle stays above the minimum,
+    in closed form (the batch solve confirms it)."""
+    s = math.sin(math.radians(min_mu_deg))
+    with np.errstate(invalid="ignore"):
+        if topology in (F.FOURBAR,) + F.SIXBARS:
+            a, b, c = shape[:, 0], shape[:, 1], shape[:, 2]
+            L = np.sort(np.stack([a, b, c, np.ones_like(a)], axis=1), axis=1)
+            grashof = L[:, 0] + L[:, 3] < L[:, 1] + L[:, 2]
+            crank = grashof & ((a <= L[:, 0]) | (L[:, 0] == 1.0))        # crank-rocker or double crank
+            cos1 = (b * b + c * c - (1 - a) ** 2) / (2 * b * c)           # μ at the crank's two dead-centre lines
+            cos2 = (b * b + c * c - (1 + a) ** 2) / (2 * b * c)
+            return crank & (np.maximum(np.abs(cos1), np.abs(cos2)) <= math.cos(math.radians(min_mu_deg)))
+        if topology == F.SLIDER_CRANK:
+            h, b = shape[:, 0], shape[:, 1]
+            reach = np.abs(h) + 1.0
+            return (b > reach) & (np.sqrt(np.maximum(b * b - reach * reach, 0.0)) / b >= s)
+        a, e = shape[:, 0], shape[:, 1]
+        near = np.abs(a - 1.0)
+        return (near > np.abs(e)) & (np.sqrt(np.maximum(1.0 - (e / np.maximum(near, 1e-300)) ** 2, 0.0)) >= s)
+
+
+#: solve(topology, shape (D, S), points (D, P, 2), theta (N,)) -> (coupler points (D, P, N) complex,
+#: output (D, N), sin μ (D, N), assembled (D, N)) in the normalised frame
+Solver = Callable[[str, np.ndarray, np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]]
+
+
+def sixbar_lengths(shape: np.ndarray, points: np.ndarray, min_mu_deg: float = MIN_MU_DEG, watt: bool = False
+                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Drawn six-bars (a, b, c, E in units of b — of c on a Watt's rocker —, F, l2/l1, l1's
+    place 0..1) made concrete:
+    l1 is chosen where the dyad E–G–F keeps its transmission angle above the minimum at every
+    distance |E − F| over the turn (from the law of cosines: d² = l1²(1 + r² − 2r·cos μ)), and
+    the coupler points scaled by l1. Returns (shape (n, 9), points, kept (n,) bool)."""
+    shape = shape.copy()
+    unit = shape[:, 2] if watt else shape[:, 1]
+    shape[:, 3] *= unit
+    shape[:, 4] *= unit
+    th = 2 * math.pi * np.arange(48) / 48
+    four = np.stack([np.zeros(len(shape)), np.zeros(len(shape)), np.ones(len(shape)), np.zeros(len(shape)),
+                     shape[:, 0], shape[:, 1], shape[:, 2], shape[:, 3], shape[:, 4]], axis=1)
+    ev = F.evaluate(F.FOURBAR, four, th[None, :], 1.0)
+    E = ev.P
+    if watt:    # the point on the rocker D C, in its frame
+        C, D = ev.joints["C"], 1.0
+        E = D + (shape[:, 3] + 1j * shape[:, 4])[:, None] * (C - D) / shape[:, 2][:, None]
+    d = np.abs(E - (shape[:, 5] + 1j * shape[:, 6])[:, None])
+    dmin, dmax = d.min(axis=1), d.max(axis=1)
+    r = shape[:, 7]
+    cm = math.cos(math.radians(min_mu_deg + 2.0))
+    lo_q, hi_q = 1 + r * r - 2 * r * cm, 1 + r * r + 2 * r * cm
+    with np.errstate(invalid="ignore", divide="ignore"):
+        lo, hi = dmax / np.sqrt(hi_q), dmin / np.sqrt(lo_q)
+    ok = ev.ok.all(axis=1) & (lo < hi) & (dmin > 0)
+    l1 = np.where(ok, lo * (hi / np.where(ok, lo, 1.0)) ** shape[:, 8], np.nan)
+    shape[:, 7], shape[:, 8] = l1, r * l1
+    return shape, points * l1[:, None, None], ok
+
+
+def closed_form_solver(topology: str, shape: np.ndarray, points: np.ndarray, theta: np.ndarray):
+    """The closed form of :mod:`.families` (tested equal to the product's solver to 1e-12): one
+    evaluation per design, every coupler point carried by the coupler it gives."""
+    ev = F.evaluate(topology, family_params(topology, shape, points[:, 0]), theta, 1.0)
+    B = ev.joints["B"]
+    if topology == F.INVERTED:
+        frame = ev.joints["u"]
+    elif topology in F.SIXBARS:
+        B = ev.joints["E"]
+        frame = (ev.joints["G"] - B) / shape[:, 7][:, None]
+    else:
+        frame = (ev.joints["C"] - B) / shape[:, SPECS[topology].names.index("b")][:, None]
+    p = points[..., 0] + 1j * points[..., 1]
+    P = B[:, None, :] + p[:, :, None] * frame[:, None, :]
+    return P, ev.out, ev.sin_mu, ev.ok
+
+
+def solve_chunk(topology: str, index: int, seed: int = 0, chunk: int = CHUNK, min_mu_deg: float = MIN_MU_DEG,
+                solver: Solver | None = None) -> Chunk:
+    """Chunk ``index`` of the atlas: draw, screen, solve, keep, describe (a pure function of its
+    arguments: a Dask task)."""
+    solve = solver or closed_form_solver
+    shape, points = _draw(topology, index * chunk, chunk, seed)
+    keep = screen(topology, shape, min_mu_deg)
+    shape, points = shape[keep], points[keep]
+    if topology in F.SIXBARS:
+        shape, points, keep = sixbar_lengths(shape, points, min_mu_deg, topology == F.WATT)
+        shape, points = shape[keep], points[keep]
+    theta = 2 * math.pi * np.arange(SAMPLES) / SAMPLES
+    curves, out, sin_mu, good = solve(topology, shape, points, theta)
+    ok = good.all(axis=1) & np.isfinite(curves).all(axis=(1, 2))
+    mu = np.degrees(np.arcsin(np.clip(np.min(np.where(good, sin_mu, 0.0), axis=1), 0.0, 1.0)))
+    ok &= mu >= min_mu_deg
+    curves, out, mu = curves[ok], out[ok], mu[ok]
+    desc = fourier_descriptor(curves, compiled=True).reshape(-1, DESC_DIM)
+    func, turns = _harmonics(topology, out, theta)
+    return Chunk(shape[ok].astype(np.float32), points[ok].astype(np.float32), desc.astype(np.float16),
+                 func.astype(np.float16), turns.astype(np.int8), mu.astype(np.float16), chunk)
+
+
+def _harmonics(topology: str, out: np.ndarray, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The output over the turn as its turns per crank turn and the harmonics 0..FUNC_HARMONICS
+    (a0, a1, b1, a2, b2, ...) of what is left: (D, 2·H + 1), (D,)."""
+    if topology == F.SLIDER_CRANK:
+        turns = np.zeros(out.shape[0])
+        g = out
+    else:
+        u = np.unwrap(np.concatenate([out, out[:, :1]], axis=1), axis=1)
+        turns = np.round((u[:, -1] - u[:, 0]) / (2 * math.pi))
+        g = u[:, :-1] - turns[:, None] * theta[None, :]
+    c = np.fft.rfft(g, axis=1) / g.shape[1]
+    cols = [c[:, 0].real]
+    for k in range(1, FUNC_HARMONICS + 1):
+        cols += [2 * c[:, k].real, -2 * c[:, k].imag]
+    return np.stack(cols, axis=1), turns
+
+
+def build_atlas(topology: str, designs: int, seed: int = 0, progress: Progress | None = None, client=None,
+                solver: Solver | None = None, chunk: int = CHUNK) -> Atlas:
+    """An atlas of at least ``designs`` designs of ``topology`` (see the module docstring); on
+    a Dask cluster when ``client`` (a ``dask.distributed.Client``) is given."""
+    if topology not in SPECS:
+        raise DesignError(f"no atlas for topology {topology!r} (atlases: {', '.join(SPECS)})")
+    start = time.perf_counter()
+    parts: list[Chunk] = []
+    have, index = 0, 0
+    while have < designs:
+        if client is not None:
+            futs = client.map(solve_chunk, [topology] * 4, [index + k for k in range(4)], seed=seed, chunk=chunk,
+                              solver=solver, pure=True)
+            got = client.gather(futs)
+            index += 4
+        else:
+            got = [solve_chunk(topology, index, seed, chunk, solver=solver)]
+            index += 1
+        for c in got:
+            parts.append(c)
+            have += c.shape.shape[0]
+        report(progress, min(have / designs, 1.0), f"{topology} atlas: {min(have, designs):,} of {designs:,} designs")
+        if index > 10_000:
+            raise DesignError(f"the {topology} atlas: too few designs pass the screen")
+    cat = {name: np.concatenate([getattr(c, name) for c in parts])[:designs] for name in
+           ("shape", "points", "func", "turns", "mu")}
+    cat["desc"] = np.concatenate([c.desc for c in parts])[: designs * POINTS]
+    drawn = sum(c.drawn for c in parts)
+    meta = {"version": VERSION, "topology": topology, "designs": designs, "points": POINTS, "samples": SAMPLES,
+            "seed": seed, "drawn": drawn, "min_mu_deg": MIN_MU_DEG, "seconds": time.perf_counter() - start,
+            "solver": "closed form" if solver is None else getattr(solver, "__name__", "custom"),
+            "built": time.strftime("%Y-%m-%dT%H:%M:%S"), "dask": client is not None}
+    return Atlas(topology, meta=meta, **cat)
+
+
+_LOADED: dict[tuple[str, int], Atlas] = {}
+
+
+def load_atlas(topology: str, designs: int | None = None, progress: Progress | None = None,
+               build: bool = True, client=None) -> Atlas:
+    """The atlas of ``topology`` with ``designs`` designs (default ``$MECHSKETCH_ATLAS_DESIGNS``
+    or :data:`~.atlas_store.DEFAULT_DESIGNS`): from memory, else from the cache folder, else built
+    now (with ``progress``; on a Dask cluster with ``client``) and stored. ``build=False``
+    raises DesignError instead of building."""
+    if topology not in SPECS:
+        raise DesignError(f"no atlas for topology {topology!r} (atlases: {', '.join(SPECS)})")
+    n = int(designs or os.environ.get("MECHSKETCH_ATLAS_DESIGNS") or DEFAULT_DESIGNS)
+    key = (topology, n)
+    if key in _LOADED:
+        return _LOADED[key]
+    folder = atlas_folder(topology, n)
+    atlas = read_atlas(folder)
+    if atlas is None:
+        if not build:
+            raise DesignError(f"the {topology} atlas ({n:,} designs) is not built yet (cache folder {folder.parent})")
+        atlas = build_atlas(topology, n, progress=progress, client=client)
+        try:
+            save_atlas(atlas, folder)
+        except OSError as exc:   # a read-only cache: keep it in memory for this session
+            atlas.meta["not_stored"] = f"{folder}: {exc}"
+    _LOADED[key] = atlas
+    return atlas
+
+
+def forget_loaded() -> None:
+    """Drop the atlases kept in memory (tests; a changed cache folder)."""
+    _LOADED.clear()
+
+
+__all__ = ["CHUNK", "Chunk", "build_atlas", "closed_form_solver", "forget_loaded", "load_atlas", "screen",
+           "sixbar_lengths", "solve_chunk"]
