@@ -24,7 +24,7 @@ import threading
 import numpy as np
 
 from ..solver.structure import GroupKind
-from ..solver.tolerances import RATE_REL
+from ..solver.tolerances import RATE_EPS, RATE_REL
 from .engine import BatchPlan, Constants
 
 EPS = float(np.finfo(float).eps)
@@ -448,7 +448,7 @@ class Fused:
                 v = K.axis[key[1]][key[2]]
             elif key[2] == "rv":
                 c = K.steps[key[1]]
-                v = 8.0 * EPS * (1.0 + c["coord"] / c["scale"])
+                v = RATE_EPS * EPS * (1.0 + c["coord"] / c["scale"])
             else:
                 v = K.steps[key[1]][key[2]]
             C[:, i] = np.broadcast_to(np.real(v), (K.n, 1))[:, 0]

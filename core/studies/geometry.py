@@ -291,6 +291,9 @@ class _Builder:
         short = np.abs(V.re(c)) - V.re(D)
         self.fail(short > self.tol(D), f"group {name} cannot be assembled: its pins {mi} and {hj} are closer "
                   "than the slide axis's offset", short)
+        tol = self.tol(D)
+        self.fail((V.re(D) <= tol) & (np.abs(V.re(c)) <= tol), f"group {name} cannot be assembled: its pins {mi} "
+                  f"and {hj} coincide at the drawn input on a slide axis through both")
         s2 = D * D - c * c
         sigma = mode * np.sqrt(np.where(V.re(s2) > 0, s2, 0.0))
         u = V.unit(V.div(d, (sigma, c)))
