@@ -172,31 +172,39 @@ def reduce_point(pos, ok, nom, nrm, nvalid, S, Q, smax, g, r, lo, width, hist_up
         if P == 0:
             dev[b] = amax
             continue
-        ax, ay = pos[b, kmax, 0] - nom[kmax, 0], pos[b, kmax, 1] - nom[kmax, 1]
-        best, wx, wy = _worst(ax, ay, rb, S, Q, mk[kmax], kmax, 0.0, 0.0)
-        last = -2
-        for k in range(N):
-            na = na_[k]
-            if k == kmax or na < 0.0 or na + mk[k] <= best:
-                continue
-            ax, ay = pos[b, k, 0] - nom[k, 0], pos[b, k, 1] - nom[k, 1]
-            U = na + mk[k]
-            if na > 0.0:
-                L = na
-                ux, uy = ax / na, ay / na
-                for j in range(P):
-                    tx = S[j, k, 0, 0] * ux + S[j, k, 1, 0] * uy
-                    ty = S[j, k, 0, 1] * ux + S[j, k, 1, 1] * uy
-                    L += rb[j] * math.sqrt(tx * tx + ty * ty)
-                best = max(best, L)
-                U = min(U, L + mk[k] * mk[k] / (2.0 * na))
-            if U > best:
-                warm = last == k - 1
-                v, wx, wy = _worst(ax, ay, rb, S, Q, mk[k], k, wx if warm else 0.0, wy if warm else 0.0)
-                last = k
-                if v > best:
-                    best = v
-        dev[b] = best
+        dev[b] = _exact(pos, nom, b, rb, S, Q, na_, mk, kmax)
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def _exact(pos, nom, b: int, rb, S, Q, na_, mk, kmax: int) -> float:
+    """Build b's largest distance with its pins at their worst, from the first pass's |a| (na_,
+    −1 where not assembled) and M (mk) per sample (see :func:`reduce_point`)."""
+    N, P = pos.shape[1], rb.shape[0]
+    ax, ay = pos[b, kmax, 0] - nom[kmax, 0], pos[b, kmax, 1] - nom[kmax, 1]
+    best, wx, wy = _worst(ax, ay, rb, S, Q, mk[kmax], kmax, 0.0, 0.0)
+    last = -2
+    for k in range(N):
+        na = na_[k]
+        if k == kmax or na < 0.0 or na + mk[k] <= best:
+            continue
+        ax, ay = pos[b, k, 0] - nom[k, 0], pos[b, k, 1] - nom[k, 1]
+        U = na + mk[k]
+        if na > 0.0:
+            L = na
+            ux, uy = ax / na, ay / na
+            for j in range(P):
+                tx = S[j, k, 0, 0] * ux + S[j, k, 1, 0] * uy
+                ty = S[j, k, 0, 1] * ux + S[j, k, 1, 1] * uy
+                L += rb[j] * math.sqrt(tx * tx + ty * ty)
+            best = max(best, L)
+            U = min(U, L + mk[k] * mk[k] / (2.0 * na))
+        if U > best:
+            warm = last == k - 1
+            v, wx, wy = _worst(ax, ay, rb, S, Q, mk[k], k, wx if warm else 0.0, wy if warm else 0.0)
+            last = k
+            if v > best:
+                best = v
+    return best
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy")
