@@ -123,10 +123,10 @@ class BandItem(_LayerItem):
         self.fill = fill
         self.edges = [xy_path(lower, close=closed), xy_path(upper, close=closed)]
         self.nominal = xy_path(nominal, close=closed)
-        fin = upper[np.isfinite(upper).all(axis=1)]
-        self.anchor = (float(fin[:, 0].max()), float(fin[:, 1].max())) if len(fin) else (0.0, 0.0)
+        box = _box(lower, upper, nominal)
+        self.anchor = (box.left(), box.bottom())   # above its top-left corner (y up): clear of the linkage
         self.setVisible(True)
-        self._bounds(_box(lower, upper, nominal))
+        self._bounds(box)
 
     def clear(self) -> None:
         self.data = None

@@ -108,6 +108,19 @@ def pins(linkage: Linkage) -> list[str]:
     return [j.id for j in linkage.joints if j.kind is JointKind.R and len(linkage.links_of(j.id)) >= 2]
 
 
+def _model(text: str, unit: str, shown: units.Units | None = None) -> float | str:
+    """What a cell holds, in the model's unit (the text itself where it is not a number); ``shown``:
+    the display units it was typed in (default the current ones)."""
+    try:
+        return units.parse(text, unit, shown)
+    except ValueError:
+        return text
+
+
+def _shown(value: float | str, unit: str) -> str:
+    return units.format_value(value, unit, digits=4) if isinstance(value, float) else value
+
+
 def _item(text: str, editable: bool = False) -> QTableWidgetItem:
     item = QTableWidgetItem(text)
     item.setToolTip(text)
@@ -152,6 +165,7 @@ class VariableTable:
         self.rows: list[Row] = []
         self.element: str | None = None
         self.mode = "tolerance"
+        self.shown = units.current()   # the display units the cells were filled in
         self._kept: dict[tuple[str, str], tuple] = {}   # (element, key) -> (use, tol, lo, hi) as typed
 
     def set_mode(self, mode: str) -> None:
@@ -162,27 +176,41 @@ class VariableTable:
         self.widget.setColumnHidden(HIGH, mode == "tolerance")
 
     def _keep(self) -> None:
+        """Remember what is typed (in model units where it reads as a number, else as typed)."""
         t = self.widget
         for r, row in enumerate(self.rows):
             if t.item(r, USE) is None:
                 continue
             self._kept[(self.element, row.key)] = (t.item(r, USE).checkState() == Qt.CheckState.Checked,
-                                                   t.item(r, TOL).text(), t.item(r, LOW).text(), t.item(r, HIGH).text())
+                                                   *(_model(t.item(r, c).text(), row.unit, self.shown)
+                                                     for c in (TOL, LOW, HIGH)))
+
+    def redisplay(self) -> None:
+        """Show the same rows again (the display units changed): what is typed is kept."""
+        lk_rows, element = self.rows, self.element
+        self._keep()
+        self.rows = []
+        self._fill(lk_rows, element)
 
     def set_linkage(self, linkage: Linkage | None) -> None:
         """Show the rows of ``linkage`` (None: none), with the user's entries for it kept."""
         self._keep()
+        self.linkage = linkage
+        self._fill(variable_rows(linkage) if linkage is not None else [], linkage.id if linkage is not None else None)
+
+    linkage: Linkage | None = None
+
+    def _fill(self, rows: list[Row], element: str | None) -> None:
         t = self.widget
         t.blockSignals(True)
-        self.rows = variable_rows(linkage) if linkage is not None else []
-        self.element = linkage.id if linkage is not None else None
-        size = size_of(linkage) if linkage is not None else 1.0
+        self.rows, self.element, self.shown = rows, element, units.current()
+        size = size_of(self.linkage) if self.linkage is not None else 1.0
         t.setRowCount(len(self.rows))
         for r, row in enumerate(self.rows):
             lo, hi = default_range(row, size)
             use, tol, low, high = self._kept.get((self.element, row.key), (
-                default_use(row, linkage), units.format_value(default_tolerance(row, size), row.unit, digits=4),
-                units.format_value(lo, row.unit, digits=4), units.format_value(hi, row.unit, digits=4)))
+                default_use(row, self.linkage), default_tolerance(row, size), lo, hi))
+            tol, low, high = (_shown(v, row.unit) for v in (tol, low, high))
             t.setItem(r, USE, _check(use))
             t.setItem(r, LINK, _item(row.link))
             t.setItem(r, NAME, _item(row.label))
@@ -261,6 +289,7 @@ class ClearanceTable:
         self.widget = _table(PIN_HEADERS, "studyClearances")
         self.pins: list[str] = []
         self.element: str | None = None
+        self.shown = units.current()
         self._kept: dict[tuple[str, str], tuple] = {}
         self.widget.itemChanged.connect(self._edited)
 
@@ -268,13 +297,22 @@ class ClearanceTable:
         for r, j in enumerate(self.pins):
             if self.widget.item(r, P_USE) is not None:
                 self._kept[(self.element, j)] = (self.widget.item(r, P_USE).checkState() == Qt.CheckState.Checked,
-                                                 self.fit_box(r).currentText(), self.widget.item(r, P_DIA).text())
+                                                 self.fit_box(r).currentText(),
+                                                 _model(self.widget.item(r, P_DIA).text(), "mm", self.shown))
 
     def fit_box(self, r: int) -> QComboBox:
         return self.widget.cellWidget(r, P_FIT)
 
+    linkage: Linkage | None = None
+
+    def redisplay(self) -> None:
+        """Show the same pins again (the display units changed): what is typed is kept."""
+        self.set_linkage(self.linkage)
+
     def set_linkage(self, linkage: Linkage | None) -> None:
+        """Show the pins of ``linkage`` (None: none), with the user's fits for it kept."""
         self._keep()
+        self.linkage, self.shown = linkage, units.current()
         t = self.widget
         t.blockSignals(True)
         self.pins = pins(linkage) if linkage is not None and linkage.has_driver and \
@@ -283,8 +321,8 @@ class ClearanceTable:
         dia = bore_diameter(linkage) if self.pins else 0.0
         t.setRowCount(len(self.pins))
         for r, j in enumerate(self.pins):
-            use, fit, d = self._kept.get((self.element, j), (True, DEFAULT_FIT,
-                                                              units.format_value(dia, "mm", digits=3)))
+            use, fit, d = self._kept.get((self.element, j), (True, DEFAULT_FIT, float(f"{dia:.3g}")))
+            d = _shown(d, "mm")
             t.setItem(r, P_USE, _check(use))
             t.setItem(r, P_PIN, _item(j))
             t.setItem(r, P_LINKS, _item(", ".join(linkage.links_of(j))))

@@ -28,6 +28,7 @@ from mechsketch.core import AddElement, ReplaceElement
 from mechsketch.core.model.linkage import Linkage
 from mechsketch.core.model.transform import extent, fresh_id, renamed, translated
 
+from .. import units
 from ..qtsafe import qt_safe
 from ..selection import ELEMENT
 from . import study_runs as R
@@ -75,6 +76,12 @@ class StudyPanel(LazyRefresh, QWidget):
         controller.selectionChanged.connect(self._invalidate)
         controller.documentReplaced.connect(self.clear_results)
         controller.changed.connect(self._band_still_true)
+        units.subscribe(self._units_changed)
+
+    def _units_changed(self) -> None:
+        """Edit › Preferences changed the display units: the tables show theirs, typed values kept."""
+        self.variables.redisplay()
+        self.clearances.redisplay()
 
     # -- construction ------------------------------------------------------------------------
     def _build(self) -> None:
@@ -266,10 +273,10 @@ class StudyPanel(LazyRefresh, QWidget):
         if lk is not None:
             self.joint_box.addItems(R.traced_default(lk) + [j for j in lk.joint_ids if j not in R.traced_default(lk)])
             for sense, metric, words in R.objectives(lk):
-                self.objective1.addItem(words, (sense, metric))
-                self.objective2.addItem(words, (sense, metric))
+                self.objective1.addItem(words, f"{sense} {metric}")
+                self.objective2.addItem(words, f"{sense} {metric}")
             out = lk.moving_links[-1] if lk.moving_links else None
-            k = self.objective2.findData(("maximize", f"swing:{out}"))
+            k = self.objective2.findData(f"maximize swing:{out}")
             self.objective2.setCurrentIndex(max(k, 0))
             self.tol_samples.setValue(min(lk.samples, 360))
         self.run_button.setEnabled(lk is not None and not self.runner.busy)
@@ -318,11 +325,12 @@ class StudyPanel(LazyRefresh, QWidget):
         ranges = self.variables.ranges()
         if not ranges:
             raise EntryError("tick at least one variable to optimise and give its range")
-        objs = [self.objective1.currentData()]
-        if self.objective2.currentData() is not None:
-            if self.objective2.currentData() == objs[0]:
+        objs = [tuple(self.objective1.currentData().split(" ", 1))]
+        second = self.objective2.currentData()
+        if second is not None:
+            if tuple(second.split(" ", 1)) == objs[0]:
                 raise EntryError("the two objectives are the same: choose another second one, or none")
-            objs.append(self.objective2.currentData())
+            objs.append(tuple(second.split(" ", 1)))
         data = R.study_dict(ranges, objs, self.mu_min.value() if self.mu_on.isChecked() else None,
                             self.opt_samples.value(), self.opt_seed.value(), self.population.value(),
                             self.generations.value())
