@@ -19,6 +19,7 @@ from PySide6.QtCore import QEvent, QObject, Qt
 from PySide6.QtWidgets import QDockWidget, QMainWindow
 
 from .panels.study_panel import StudyPanel
+from .qtsafe import qt_safe
 
 XY = tuple[float, float]
 #: points a freehand stroke or an underlay polyline is resampled to
@@ -51,6 +52,7 @@ def stroke_target(points: list[XY]) -> tuple[np.ndarray, bool]:
     return resample(pts, STROKE_POINTS, closed), closed
 
 
+@qt_safe
 class TargetSession(QObject):
     """Reads a target from the canvas for the Design dock until it ends (see the module docstring).
 
