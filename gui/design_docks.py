@@ -18,6 +18,7 @@ import numpy as np
 from PySide6.QtCore import QEvent, QObject, Qt
 from PySide6.QtWidgets import QDockWidget, QMainWindow
 
+from .panels.design_panel import DesignPanel
 from .panels.study_panel import StudyPanel
 from .qtsafe import qt_safe
 
@@ -58,7 +59,9 @@ class TargetSession(QObject):
 
     ``mode``: "click" (points of a path), "poses" (press at a point, release along its angle),
     "draw" (a freehand stroke) or "underlay" (click an underlay's polyline). ``on_points(points,
-    angles, closed, done)`` gets what is placed so far (angles None for a path)."""
+    angles, pending)`` gets what is placed so far (angles None for a path; ``pending`` the point under
+    the pointer); ``on_end(keep)`` when it ends (then :attr:`points`, :attr:`angles`,
+    :attr:`closed` hold the target)."""
 
     def __init__(self, view, mode: str, on_points, on_end) -> None:
         super().__init__(view)
@@ -67,6 +70,7 @@ class TargetSession(QObject):
         self.angles: list[float] = []
         self.pressed: XY | None = None
         self.stroke: list[XY] = []
+        self.closed: bool | None = None
         view.viewport().installEventFilter(self)
         view.installEventFilter(self)
 
@@ -82,10 +86,9 @@ class TargetSession(QObject):
         raw = (p.x(), p.y())
         return self.view.snap(raw) if snap else raw
 
-    def _show(self, pending: XY | None = None, done: bool = False) -> None:
-        angles = self.angles if self.mode == "poses" else None
-        self.on_points(np.asarray(self.points, dtype=float).reshape(-1, 2), angles, self.mode != "click" or True,
-                       pending, done)
+    def _show(self, pending: XY | None = None) -> None:
+        angles = list(self.angles) if self.mode == "poses" else None
+        self.on_points(np.asarray(self.points, dtype=float).reshape(-1, 2), angles, pending)
 
     def eventFilter(self, obj: QObject, event: QEvent) -> bool:  # noqa: N802 - Qt override
         kind = event.type()
@@ -134,12 +137,12 @@ class TargetSession(QObject):
     def _move(self, event) -> bool:
         if self.mode == "draw" and self.stroke:
             self.stroke.append(self._world(event, snap=False))
-            self.on_points(np.asarray(self.stroke), None, False, None, False)
+            self.on_points(np.asarray(self.stroke), None, None)
             return True
         if self.mode == "poses" and self.pressed is not None:
             tip = self._world(event, snap=False)
             angle = math.degrees(math.atan2(tip[1] - self.pressed[1], tip[0] - self.pressed[0]))
-            self.on_points(np.asarray(self.points + [self.pressed]), self.angles + [angle], True, None, False)
+            self.on_points(np.asarray(self.points + [self.pressed]), self.angles + [angle], None)
             return True
         if self.mode == "click":
             self._show(pending=self._world(event))
@@ -209,9 +212,16 @@ class DesignDocks(QObject):
         self.controller = window.controller
         self.layer = getattr(window.canvas, "design_layer", None)   # None with stand-in components
         self.study = StudyPanel(self.controller)
-        self.docks: dict[str, QDockWidget] = {"study": self._dock("Study", self.study)}
+        self.design = DesignPanel(self.controller, self._ask_csv)
+        self.docks: dict[str, QDockWidget] = {"study": self._dock("Study", self.study),
+                                              "design": self._dock("Design", self.design)}
+        self.session: TargetSession | None = None
         self.study.bandChanged.connect(self._band)
         self.study.previewChanged.connect(self._preview)
+        self.design.previewChanged.connect(self._preview)
+        self.design.targetChanged.connect(self._target)
+        self.design.targetRequested.connect(self.pick_target)
+        self.controller.documentReplaced.connect(self.stop_picking)
         docks.update(self.docks)
         if "plots" in docks:
             self.tabify(docks["plots"])
@@ -229,6 +239,44 @@ class DesignDocks(QObject):
             self.window.tabifyDockWidget(beside, dock)
         beside.raise_()
 
+    def _ask_csv(self) -> str | None:
+        start = str(self.controller.path.parent) if self.controller.path else ""
+        return self.window.dialogs.open_file_name("Read the target from CSV", start, "CSV files (*.csv);;All files (*)")
+
+    # -- the target from the canvas ------------------------------------------------------------
+    def pick_target(self, mode: str) -> bool:
+        """Read the Design dock's target from the canvas (``mode``: see :class:`TargetSession`)."""
+        self.stop_picking()
+        view = self.window.canvas
+        if self.layer is None or not hasattr(view, "viewport"):
+            return False
+        if mode == "underlay" and not any(it.isVisible() for it in view.underlays.items.values()):
+            self.controller.message.emit("no visible underlay: File › Import Underlay… first (or show them)")
+            return False
+        view.cancel_tool()
+        self.session = TargetSession(view, mode, self.design.target_placing, self._picked)
+        view.setFocus()
+        return True
+
+    def _picked(self, keep: bool) -> None:
+        session, self.session = self.session, None
+        if session is None:
+            return
+        if keep and session.points:
+            self.design.target_picked(np.asarray(session.points, dtype=float),
+                                      session.angles if session.mode == "poses" else None, session.closed)
+        else:
+            self.design.target_cancelled()
+
+    def stop_picking(self) -> None:
+        """End a target being picked on the canvas, keeping the table as it was."""
+        if self.session is not None:
+            self.session.end(False)
+
+    def _target(self, target: dict | None) -> None:
+        if self.layer is not None:
+            self.layer.set_target(target)
+
     def _band(self, band: dict | None) -> None:
         if self.layer is not None:
             self.layer.set_band(band)
@@ -239,9 +287,11 @@ class DesignDocks(QObject):
 
     def shutdown(self) -> None:
         """The window closes: stop the preview, cancel and wait for running work."""
+        self.stop_picking()
         if self.layer is not None:
             self.layer.stop()
         self.study.shutdown()
+        self.design.shutdown()
 
 
 __all__ = ["DesignDocks", "TargetSession", "resample", "stroke_target"]

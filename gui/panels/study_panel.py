@@ -89,6 +89,7 @@ class StudyPanel(LazyRefresh, QWidget):
         col = QVBoxLayout(body)
         col.setContentsMargins(4, 4, 4, 4)
         top = QFormLayout()
+        top.setRowWrapPolicy(QFormLayout.RowWrapPolicy.WrapLongRows)
         self.element_box = QComboBox()
         self.element_box.setObjectName("studyElement")
         self.element_box.currentTextChanged.connect(self._element_chosen)
@@ -140,6 +141,7 @@ class StudyPanel(LazyRefresh, QWidget):
     def _tolerance_settings(self) -> QGroupBox:
         self.tol_box = QGroupBox("Monte Carlo")
         f = QFormLayout(self.tol_box)
+        f.setRowWrapPolicy(QFormLayout.RowWrapPolicy.WrapLongRows)
         self.builds = _spin(10, 10_000_000, 2000, 1000, "studyBuilds")
         self.builds.setToolTip("How many copies of the linkage are built with random dimensions and plays")
         self.distribution = QComboBox()
@@ -166,6 +168,7 @@ class StudyPanel(LazyRefresh, QWidget):
     def _optimise_settings(self) -> QGroupBox:
         self.opt_box = QGroupBox("Optimisation")
         f = QFormLayout(self.opt_box)
+        f.setRowWrapPolicy(QFormLayout.RowWrapPolicy.WrapLongRows)
         self.objective1 = QComboBox()
         self.objective1.setObjectName("studyObjective1")
         self.objective2 = QComboBox()
