@@ -32,6 +32,7 @@ from .clipboard import ClipboardCommands
 from .drops import DropTarget
 from .help.actions import HelpCommands
 from .underlays import UnderlayCommands
+from .design_docks import DesignDocks
 from . import units
 from .preferences import (Preferences, apply_preferences, load_preferences, open_preferences_dialog, part_options,
                           store_preferences)
@@ -130,6 +131,7 @@ class MainWindow(QMainWindow):
             "diagnostics": self._dock("Diagnostics", self.diagnostics, Qt.DockWidgetArea.LeftDockWidgetArea),
             "plots": self._dock("Plots", self._make_plots, Qt.DockWidgetArea.RightDockWidgetArea),
         }
+        self.design_docks = DesignDocks(self, self.docks)   # Study and Design docks (issues 21, 22, 25), by the plots
         self.layout_restored = self.restore_layout()
         self._docks_sized = self.layout_restored
 
@@ -534,6 +536,7 @@ class MainWindow(QMainWindow):
         if self._exporter is not None:
             self._exporter.cancel()
             self._exporter.wait()
+        self.design_docks.shutdown()
         if self.parts.stop is not None:
             self.parts.stop()
         self.autosave.clean_exit()
