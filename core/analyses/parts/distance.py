@@ -224,14 +224,19 @@ def discs_of(contours: Sequence[Contour]) -> Discs:
     return Discs(np.array(flags), np.array(cen, float).reshape(-1, 2), np.array(rad, float))
 
 
-def _far_from(x: np.ndarray, pc: Pieces, k: np.ndarray) -> np.ndarray:
-    """The largest distance (P,) from points x to segments k (an end point, or an arc's far point)."""
-    far = np.maximum(np.hypot(*(x - pc.p0[k]).T), np.hypot(*(x - pc.p1[k]).T))
+def _far_from(x: np.ndarray, pc: Pieces, k: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The largest distance (P,) from points x to segments k and where it is reached ((P, 2): an
+    end point, or an arc's far point)."""
+    d0, d1 = np.hypot(*(x - pc.p0[k]).T), np.hypot(*(x - pc.p1[k]).T)
+    far = np.maximum(d0, d1)
+    at = np.where((d0 >= d1)[:, None], pc.p0[k], pc.p1[k])
     v = pc.centre[k] - x
     nv = np.hypot(v[:, 0], v[:, 1])
     ang = np.arctan2(v[:, 1], v[:, 0])
-    opposite = pc.is_arc[k] & (nv > 0) & _on_arc(ang, pc.a0[k], pc.theta[k])
-    return np.where(opposite, np.maximum(far, nv + pc.radius[k]), far)
+    opposite = pc.is_arc[k] & (nv > 0) & _on_arc(ang, pc.a0[k], pc.theta[k]) & (nv + pc.radius[k] > far)
+    u = v / np.where(nv > 0, nv, 1.0)[:, None]
+    return (np.where(opposite, nv + pc.radius[k], far),
+            np.where(opposite[:, None], pc.centre[k] + pc.radius[k][:, None] * u, at))
 
 
 def _disc_to_segment(c: np.ndarray, r: np.ndarray, pc: Pieces, k: np.ndarray):
@@ -240,11 +245,15 @@ def _disc_to_segment(c: np.ndarray, r: np.ndarray, pc: Pieces, k: np.ndarray):
     q = _to_segment(c, pc, k)
     v = q - c
     dn = np.hypot(v[:, 0], v[:, 1])
-    df = _far_from(c, pc, k)
-    d = np.where(dn >= r, dn - r, np.where(df <= r, r - df, 0.0))
-    u = v / np.where(dn > 0, dn, 1.0)[:, None]
-    on_circle = np.where((d > 0)[:, None] | (dn == 0)[:, None], c + r[:, None] * u, q)
-    return d, on_circle, q
+    df, qf = _far_from(c, pc, k)
+    outside, inside = dn >= r, df <= r
+    d = np.where(outside, dn - r, np.where(inside, r - df, 0.0))
+    on_seg = np.where(inside[:, None] & ~outside[:, None], qf, q)
+    w = on_seg - c
+    nw = np.hypot(w[:, 0], w[:, 1])
+    u = np.where((nw > 0)[:, None], w / np.where(nw > 0, nw, 1.0)[:, None], np.array([1.0, 0.0]))
+    on_circle = np.where((d > 0)[:, None], c + r[:, None] * u, on_seg)
+    return d, on_circle, on_seg
 
 
 def _disc_to_disc(c1, r1, c2, r2):
@@ -252,7 +261,7 @@ def _disc_to_disc(c1, r1, c2, r2):
     nearest points."""
     v = c2 - c1
     dc = np.hypot(v[:, 0], v[:, 1])
-    u = v / np.where(dc > 0, dc, 1.0)[:, None]
+    u = np.where((dc > 0)[:, None], v / np.where(dc > 0, dc, 1.0)[:, None], np.array([1.0, 0.0]))  # concentric: any
     apart = dc >= r1 + r2
     nested = dc <= np.abs(r1 - r2)
     d = np.where(apart, dc - r1 - r2, np.where(nested, np.abs(r1 - r2) - dc, 0.0))
