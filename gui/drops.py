@@ -12,6 +12,7 @@ from typing import Any
 
 from PySide6.QtCore import QEvent, QObject
 from PySide6.QtGui import QDropEvent
+from .qtsafe import qt_safe
 
 SCENE_SUFFIXES = (".json",)
 DRAWING_SUFFIXES = (".dxf", ".svg")
@@ -36,6 +37,7 @@ def wanted(path: Path) -> str | None:
     return None
 
 
+@qt_safe
 class DropTarget(QObject):
     """Accepts drags of scene, drawing and picture files on ``window`` and its canvas."""
 

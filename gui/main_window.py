@@ -32,6 +32,7 @@ from .clipboard import ClipboardCommands
 from .drops import DropTarget
 from .help.actions import HelpCommands
 from .underlays import UnderlayCommands
+from .design_docks import DesignDocks
 from . import units
 from .preferences import (Preferences, apply_preferences, load_preferences, open_preferences_dialog, part_options,
                           store_preferences)
@@ -130,6 +131,7 @@ class MainWindow(QMainWindow):
             "diagnostics": self._dock("Diagnostics", self.diagnostics, Qt.DockWidgetArea.LeftDockWidgetArea),
             "plots": self._dock("Plots", self._make_plots, Qt.DockWidgetArea.RightDockWidgetArea),
         }
+        self.design_docks = DesignDocks(self, self.docks)   # Study and Design docks (issues 21, 22, 25), by the plots
         self.layout_restored = self.restore_layout()
         self._docks_sized = self.layout_restored
 
@@ -445,7 +447,7 @@ class MainWindow(QMainWindow):
         scene = self.controller.scene
         elements = [e for e in scene.elements if exportable(e)]
         if not elements:
-            self.show_message("nothing to export: draw a linkage, a Geneva drive or a rolling lever first")
+            self.show_message("nothing to export: draw a linkage, a Geneva drive, a rolling lever or a gear pair first")
             return False
         target = self.export_target() or elements[0]
         choices = {e.id: part_names(e) for e in elements}
@@ -536,6 +538,7 @@ class MainWindow(QMainWindow):
         if self._exporter is not None:
             self._exporter.cancel()
             self._exporter.wait()
+        self.design_docks.shutdown()
         if self.parts.stop is not None:
             self.parts.stop()
         self.autosave.clean_exit()

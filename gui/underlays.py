@@ -31,6 +31,7 @@ from mechsketch.core.model.underlay import Underlay
 from . import units
 from .dialogs import DialogService
 from .selection import ELEMENT
+from .qtsafe import qt_safe
 
 UNDERLAY_FILTER = ("Drawings and pictures (*.dxf *.svg *.png *.jpg *.jpeg *.bmp *.gif *.tif *.tiff *.webp);;"
                    "DXF drawings (*.dxf);;SVG drawings (*.svg);;Pictures (*.png *.jpg *.jpeg *.bmp *.gif *.tif "
@@ -38,6 +39,7 @@ UNDERLAY_FILTER = ("Drawings and pictures (*.dxf *.svg *.png *.jpg *.jpeg *.bmp 
 XY = tuple[float, float]
 
 
+@qt_safe
 class CanvasSession(QObject):
     """Reads left clicks (and drags) on the canvas for a command until it ends; Esc cancels.
 

@@ -42,8 +42,8 @@ STARTS = 40
 #: samples of the transmission-angle penalty over the span
 PENALTY_SAMPLES = 72
 #: Levenberg–Marquardt iterations of the refinement (the six-bar's 15 parameters converge slower)
-ITERATIONS = {F.SIXBAR: 200, F.WATT: 200}
-DEFAULT_ITERATIONS = 80
+ITERATIONS = {F.SIXBAR: 120, F.WATT: 120}
+DEFAULT_ITERATIONS = 40
 #: weight of the transmission-angle penalty (per unit of sin μ below the floor, per sample)
 MU_WEIGHT = 2.0
 #: weight of the order penalty (per radian of a step against the crank's direction)

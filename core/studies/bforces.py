@@ -160,105 +160,128 @@ def _applied(L: _Links, S: dict) -> tuple[dict, dict]:
     return F, M
 
 
+class _Pass:
+    """The reactions group by group, last first (see :mod:`mechsketch.core.analyses.forces.passes`):
+    ``F``/``M`` the links' loads (consumed as the groups are solved), ``pairs`` [(joint, on, by,
+    force on ``on``)] of the revolute joints."""
+
+    def __init__(self, L: _Links, F: dict, M: dict, at: dict) -> None:
+        self.L, self.F, self.M, self.at = L, dict(F), dict(M), at
+        self.pairs: list = []
+
+    def about(self, k, q0):
+        return self.M[k] - _cross(self.L.arm(k, q0), self.F[k])
+
+    def mom(self, k, q0, f):
+        return _cross(self.L.arm(k, q0), f)
+
+    def take(self, k, f, q0) -> None:
+        self.F[k] = self.F[k] - f
+        self.M[k] = self.M[k] - _cross(self.L.arm(k, q0), f)
+
+    def take_at(self, k, f, q, c) -> None:
+        self.F[k] = self.F[k] - f
+        self.M[k] = self.M[k] - (_cross(q - self.L.ref(k), f) + c)
+
+    def rrr(self, g, i, j, Fi, Fj, tot) -> None:
+        L, at = self.L, self.at
+        m0, h0, l0 = at[g.outer_i], at[g.outer_j], at[g.inner]
+        ai, aj = L.arm(i, l0) - L.arm(i, m0), L.arm(j, l0) - L.arm(j, h0)
+        b = self.M[j] + self.mom(j, l0, Fi) - self.mom(j, h0, tot)
+        inv = 1.0 / _cross(ai, aj)
+        X = self.about(i, l0) * inv * aj + b * inv * ai
+        Z = -tot - X
+        self.pairs += [(g.outer_i, i, g.known_i, X), (g.outer_j, j, g.known_j, Z), (g.inner, j, i, X + Fi)]
+        self.take(g.known_i, X, m0)
+        self.take(g.known_j, Z, h0)
+
+    def rrp(self, g, i, j, Fi, Fj, tot) -> None:
+        L, at = self.L, self.at
+        m0, l0 = at[g.outer_i], at[g.inner]
+        n = L.normal(j, g.outer_j)
+        ri = L.arm(i, m0) - L.arm(i, l0)
+        f = (self.about(i, l0) - _cross(ri, tot)) / _cross(ri, n) * n
+        X = -f - tot
+        self.pairs += [(g.outer_i, i, g.known_i, X), (g.inner, j, i, X + Fi)]
+        q = L.point(i, l0)
+        self.take(g.known_i, X, m0)
+        self.take_at(g.known_j, f, q, -self.about(j, l0))
+
+    def rpr(self, g, i, j, Fi, Fj, tot) -> None:
+        L, at = self.L, self.at
+        m0, h0 = at[g.outer_i], at[g.outer_j]
+        n = L.normal(i, g.inner)
+        qm = L.point(i, m0)
+        f = (self.about(i, m0) + self.about(j, h0)) / _cross(n, qm - L.point(j, h0)) * n
+        X, Z = f - Fi, -f - Fj
+        self.pairs += [(g.outer_i, i, g.known_i, X), (g.outer_j, j, g.known_j, Z)]
+        self.take(g.known_i, X, m0)
+        self.take(g.known_j, Z, h0)
+
+    def prp(self, g, i, j, Fi, Fj, tot) -> None:
+        L = self.L
+        l0 = self.at[g.inner]
+        n1, n2 = L.normal(i, g.outer_i), L.normal(j, g.outer_j)
+        det = _cross(n1, n2)
+        f1 = _cross(n2, tot) / det * n1
+        f2 = _cross(tot, n1) / det * n2
+        c1, c2 = -self.about(i, l0), -self.about(j, l0)
+        q = L.point(i, l0)
+        self.pairs.append((g.inner, j, i, f1 + Fi))
+        self.take_at(g.known_i, f1, q, c1)
+        self.take_at(g.known_j, f2, q, c2)
+
+    def rpp(self, g, i, j, Fi, Fj, tot) -> None:
+        L = self.L
+        m0 = self.at[g.outer_i]
+        n1, n2 = L.normal(i, g.inner), L.normal(j, g.outer_j)
+        det = _cross(n1, n2)
+        f1 = _cross(n2, Fj) / det * n1
+        f2 = _cross(Fj, n1) / det * n2
+        c1 = self.about(i, m0)
+        q = L.point(i, m0)
+        c2 = -(c1 + self.M[j] + _cross(L.ref(j) - q, self.F[j]))
+        X = f1 - Fi
+        self.pairs.append((g.outer_i, i, g.known_i, X))
+        self.take(g.known_i, X, m0)
+        self.take_at(g.known_j, f2, q, c2)
+
+    def driver(self, plan: BatchPlan):
+        """The driving effort (N·m for a crank, N for a slider) once every group is solved."""
+        lk, L, at = plan.linkage, self.L, self.at
+        drv = lk.driver
+        pv = at[drv.pivot]
+        if plan.kind == "crank":
+            effort = -self.about(drv.link, pv)
+            reaction = -self.F[drv.link]
+            self.pairs.append((drv.pivot, drv.link, lk.ground, reaction))
+            self.take(lk.ground, reaction, pv)
+            self.M[lk.ground] = self.M[lk.ground] - effort
+            return effort * MM
+        k = drv.link              # a slider driven along its guide
+        u = -1j * L.normal(k, drv.pivot)
+        effort = -(self.F[k] * np.conj(u)).real
+        push = effort * u
+        f = -self.F[k] - push
+        self.take_at(lk.ground, f + push, L.point(k, pv), -self.about(k, pv))
+        return effort
+
+
 def _pass(L: _Links, plan: BatchPlan, F: dict, M: dict, at: dict) -> dict:
-    """The reactions group by group, last first (see :mod:`mechsketch.core.analyses.forces.passes`)."""
-    F, M = dict(F), dict(M)
-    pairs: list = []
-
-    def about(k, q0):
-        return M[k] - _cross(L.arm(k, q0), F[k])
-
-    def mom(k, q0, f):
-        return _cross(L.arm(k, q0), f)
-
-    def take(k, f, q0):
-        F[k] = F[k] - f
-        M[k] = M[k] - _cross(L.arm(k, q0), f)
-
-    def take_at(k, f, q, c):
-        F[k] = F[k] - f
-        M[k] = M[k] - (_cross(q - L.ref(k), f) + c)
-
+    """The reactions group by group, last first, then the driver and the frame."""
+    p = _Pass(L, F, M, at)
+    solve = {GroupKind.RRR: p.rrr, GroupKind.RRP: p.rrp, GroupKind.RPR: p.rpr, GroupKind.PRP: p.prp,
+             GroupKind.RPP: p.rpp}
     for step in reversed(plan.plan.steps):
         g = step.group
         i, j = g.link_i, g.link_j
-        Fi, Fj = F[i], F[j]
-        tot = Fi + Fj
-        if g.kind is GroupKind.RRR:
-            m0, h0, l0 = at[g.outer_i], at[g.outer_j], at[g.inner]
-            ai, aj = L.arm(i, l0) - L.arm(i, m0), L.arm(j, l0) - L.arm(j, h0)
-            b = M[j] + mom(j, l0, Fi) - mom(j, h0, tot)
-            inv = 1.0 / _cross(ai, aj)
-            X = about(i, l0) * inv * aj + b * inv * ai
-            Z = -tot - X
-            pairs += [(g.outer_i, i, g.known_i, X), (g.outer_j, j, g.known_j, Z), (g.inner, j, i, X + Fi)]
-            take(g.known_i, X, m0)
-            take(g.known_j, Z, h0)
-        elif g.kind is GroupKind.RRP:
-            m0, l0 = at[g.outer_i], at[g.inner]
-            n = L.normal(j, g.outer_j)
-            ri = L.arm(i, m0) - L.arm(i, l0)
-            f = (about(i, l0) - _cross(ri, tot)) / _cross(ri, n) * n
-            X = -f - tot
-            pairs += [(g.outer_i, i, g.known_i, X), (g.inner, j, i, X + Fi)]
-            q = L.point(i, l0)
-            take(g.known_i, X, m0)
-            take_at(g.known_j, f, q, -about(j, l0))
-        elif g.kind is GroupKind.RPR:
-            m0, h0 = at[g.outer_i], at[g.outer_j]
-            n = L.normal(i, g.inner)
-            qm = L.point(i, m0)
-            c = about(i, m0)
-            f = (c + about(j, h0)) / _cross(n, qm - L.point(j, h0)) * n
-            X, Z = f - Fi, -f - Fj
-            pairs += [(g.outer_i, i, g.known_i, X), (g.outer_j, j, g.known_j, Z)]
-            take(g.known_i, X, m0)
-            take(g.known_j, Z, h0)
-        elif g.kind is GroupKind.PRP:
-            l0 = at[g.inner]
-            n1, n2 = L.normal(i, g.outer_i), L.normal(j, g.outer_j)
-            det = _cross(n1, n2)
-            f1 = _cross(n2, tot) / det * n1
-            f2 = _cross(tot, n1) / det * n2
-            c1, c2 = -about(i, l0), -about(j, l0)
-            q = L.point(i, l0)
-            pairs.append((g.inner, j, i, f1 + Fi))
-            take_at(g.known_i, f1, q, c1)
-            take_at(g.known_j, f2, q, c2)
-        else:   # RPP
-            m0 = at[g.outer_i]
-            n1, n2 = L.normal(i, g.inner), L.normal(j, g.outer_j)
-            det = _cross(n1, n2)
-            f1 = _cross(n2, Fj) / det * n1
-            f2 = _cross(Fj, n1) / det * n2
-            c1 = about(i, m0)
-            q = L.point(i, m0)
-            c2 = -(c1 + M[j] + _cross(L.ref(j) - q, F[j]))
-            X = f1 - Fi
-            pairs.append((g.outer_i, i, g.known_i, X))
-            take(g.known_i, X, m0)
-            take_at(g.known_j, f2, q, c2)
-        F[i] = F[j] = 0j
-        M[i] = M[j] = 0.0
-    lk = plan.linkage
-    drv = lk.driver
-    pv = at[drv.pivot]
-    if plan.kind == "crank":
-        effort = -about(drv.link, pv)
-        reaction = -F[drv.link]
-        pairs.append((drv.pivot, drv.link, lk.ground, reaction))
-        take(lk.ground, reaction, pv)
-        M[lk.ground] = M[lk.ground] - effort
-        effort = effort * MM
-    else:   # a slider driven along its guide
-        k = drv.link
-        u = -1j * L.normal(k, drv.pivot)
-        effort = -(F[k] * np.conj(u)).real
-        push = effort * u
-        f = -F[k] - push
-        q = L.point(k, pv)
-        take_at(lk.ground, f + push, q, -about(k, pv))
-    return {"effort": effort, "pairs": pairs, "frame_force": F[lk.ground], "frame_moment": M[lk.ground]}
+        Fi, Fj = p.F[i], p.F[j]
+        solve[g.kind](g, i, j, Fi, Fj, Fi + Fj)
+        p.F[i] = p.F[j] = 0j
+        p.M[i] = p.M[j] = 0.0
+    effort = p.driver(plan)
+    ground = plan.linkage.ground
+    return {"effort": effort, "pairs": p.pairs, "frame_force": p.F[ground], "frame_moment": p.M[ground]}
 
 
 def _pin_force(pairs: list, joint: str, link: str):

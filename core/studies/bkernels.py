@@ -312,7 +312,10 @@ def prp(g1: BState, j1: str, s1: Pair, u1_0: Pair, g2: BState, j2: str, s2: Pair
     rhs = V.sub(V.add(z2, b2), V.add(z1, b1))
     p1, p2, det = _solve2(c1, c2, rhs if play is None else V.sub(rhs, play))
     cond = np.abs(V.re(det))
-    ok = np.isfinite(V.re(p1)) & (cond > PARALLEL_COND)
+    # the guides cross as drawn (the side of cross(u1, −u2) in the drawn pose), not beyond parallel
+    side = np.where(V.re(V.cross(u1_0, V.scale(-1.0, u2_0))) >= 0.0, 1.0, -1.0)
+    gap = V.re(det) * side
+    ok = np.isfinite(V.re(p1)) & (gap > PARALLEL_COND)
     L = V.add(V.add(z1, b1), V.scale(p1, u1))
     q1 = q2 = r1 = r2 = None
     if order >= 1:
@@ -324,7 +327,7 @@ def prp(g1: BState, j1: str, s1: Pair, u1_0: Pair, g2: BState, j2: str, s2: Pair
         r1, r2, _ = _solve2(c1, c2, rhs)
     si = slider(g1, s1, u1_0, j1, p1, q1, r1, order)
     sj = slider(g2, s2, u2_0, j2, p2, q2, r2, order)
-    return BOut(si, sj, ok, cond, cond, None, ((p1, q1, r1), (p2, q2, r2)))
+    return BOut(si, sj, ok, gap, cond, None, ((p1, q1, r1), (p2, q2, r2)))
 
 
 def rpp(mi: BState, m: str, m0: Pair, ui0: Pair, g: BState, j2: str, s2: Pair, u2_0: Pair, order: int,

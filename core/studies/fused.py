@@ -24,7 +24,7 @@ import threading
 import numpy as np
 
 from ..solver.structure import GroupKind
-from ..solver.tolerances import RATE_REL
+from ..solver.tolerances import RATE_EPS, RATE_REL
 from .engine import BatchPlan, Constants
 
 EPS = float(np.finfo(float).eps)
@@ -291,7 +291,14 @@ class _Gen:
             ali, sdd = f"{n}ali", f"{n}sdd"
         self.state(g.link_i, m0, (mx, my), ci, vM, wi, aM, ali)
         self.set_point(g.link_i, g.inner, (f"{n}rix", f"{n}riy"), (f"{n}lx", f"{n}ly"))
-        # the slider: translating on the guide (bkernels.slider)
+        self.slider(n, g, gs, (zx, zy), s0, sd, sdd)
+
+    def slider(self, n: str, g, gs: dict, z: tuple, s0: tuple, sd: str, sdd: str) -> None:
+        """The RRP's slider, translating on the guide of ``gs`` (as ``bkernels.slider``)."""
+        e, o = self.emit, self.order
+        zx, zy = z
+        gc, gsn = gs["cs"]
+        (gvx, gvy), gw, (gax, gay), gal = gs["v"], gs["w"], gs["acc"], gs["al"]
         armx, army = self.arm(g.known_j, g.outer_j)
         e(f"{n}Sx = {zx} + {n}ux * {n}s; {n}Sy = {zy} + {n}uy * {n}s")
         sv = sa = ("0.0", "0.0")
@@ -448,7 +455,7 @@ class Fused:
                 v = K.axis[key[1]][key[2]]
             elif key[2] == "rv":
                 c = K.steps[key[1]]
-                v = 8.0 * EPS * (1.0 + c["coord"] / c["scale"])
+                v = RATE_EPS * EPS * (1.0 + c["coord"] / c["scale"])
             else:
                 v = K.steps[key[1]][key[2]]
             C[:, i] = np.broadcast_to(np.real(v), (K.n, 1))[:, 0]

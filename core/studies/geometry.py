@@ -291,6 +291,9 @@ class _Builder:
         short = np.abs(V.re(c)) - V.re(D)
         self.fail(short > self.tol(D), f"group {name} cannot be assembled: its pins {mi} and {hj} are closer "
                   "than the slide axis's offset", short)
+        tol = self.tol(D)
+        self.fail((V.re(D) <= tol) & (np.abs(V.re(c)) <= tol), f"group {name} cannot be assembled: its pins {mi} "
+                  f"and {hj} coincide at the drawn input on a slide axis through both")
         s2 = D * D - c * c
         sigma = mode * np.sqrt(np.where(V.re(s2) > 0, s2, 0.0))
         u = V.unit(V.div(d, (sigma, c)))
@@ -339,33 +342,41 @@ class _Builder:
             M, H = self.world(g.known_i, g.outer_i), self.world(g.known_j, g.outer_j)
             self.rpr(g.name, g.link_i, g.outer_i, M, g.link_j, g.outer_j, H, g.inner, mode)
         elif g.kind is GroupKind.PRP:
-            Bs, us, rs = [], [], []
-            for link, known, pj in ((g.link_i, g.known_i, g.outer_i), (g.link_j, g.known_j, g.outer_j)):
-                u = self.axis(known, pj)
-                r = V.cmul(sh.axes[link][pj], u)
-                Bs.append(V.add(self.world(known, pj), V.mul(r, V.sub(sh.pts[link][g.inner], sh.pts[link][pj]))))
-                us.append(u)
-                rs.append(r)
-            det = V.cross(us[0], V.scale(-1.0, us[1]))
-            self._parallel(g, det)
-            p1 = V.cross(V.sub(Bs[1], Bs[0]), V.scale(-1.0, us[1])) / det
-            L = V.add(Bs[0], V.scale(p1, us[0]))
-            for link, r in ((g.link_i, rs[0]), (g.link_j, rs[1])):
-                self.pose[link] = (V.sub(L, V.mul(r, sh.pts[link][g.inner])), r)
+            self._prp(g)
         else:   # RPP
-            pi_, pj_ = sh.pts[g.link_i], sh.pts[g.link_j]
-            u2, G2 = self.axis(g.known_j, g.outer_j), self.world(g.known_j, g.outer_j)
-            rj = V.cmul(sh.axes[g.link_j][g.outer_j], u2)
-            ui = V.mul(rj, sh.axes[g.link_j][g.inner])
-            ri = V.cmul(sh.axes[g.link_i][g.inner], ui)
-            M = self.world(g.known_i, g.outer_i)
-            Pi = V.add(M, V.mul(ri, V.sub(pi_[g.inner], pi_[g.outer_i])))
-            w = V.sub(V.sub(Pi, G2), V.mul(rj, V.sub(pj_[g.inner], pj_[g.outer_j])))
-            det = V.cross(u2, V.scale(-1.0, ui))
-            self._parallel(g, det)
-            p2 = V.cross(w, V.scale(-1.0, ui)) / det
-            self.pose[g.link_i] = (V.sub(M, V.mul(ri, pi_[g.outer_i])), ri)
-            self.pose[g.link_j] = (V.sub(V.add(G2, V.scale(p2, u2)), V.mul(rj, pj_[g.outer_j])), rj)
+            self._rpp(g)
+
+    def _prp(self, g) -> None:
+        sh = self.sh
+        Bs, us, rs = [], [], []
+        for link, known, pj in ((g.link_i, g.known_i, g.outer_i), (g.link_j, g.known_j, g.outer_j)):
+            u = self.axis(known, pj)
+            r = V.cmul(sh.axes[link][pj], u)
+            Bs.append(V.add(self.world(known, pj), V.mul(r, V.sub(sh.pts[link][g.inner], sh.pts[link][pj]))))
+            us.append(u)
+            rs.append(r)
+        det = V.cross(us[0], V.scale(-1.0, us[1]))
+        self._parallel(g, det)
+        p1 = V.cross(V.sub(Bs[1], Bs[0]), V.scale(-1.0, us[1])) / det
+        L = V.add(Bs[0], V.scale(p1, us[0]))
+        for link, r in ((g.link_i, rs[0]), (g.link_j, rs[1])):
+            self.pose[link] = (V.sub(L, V.mul(r, sh.pts[link][g.inner])), r)
+
+    def _rpp(self, g) -> None:
+        sh = self.sh
+        pi_, pj_ = sh.pts[g.link_i], sh.pts[g.link_j]
+        u2, G2 = self.axis(g.known_j, g.outer_j), self.world(g.known_j, g.outer_j)
+        rj = V.cmul(sh.axes[g.link_j][g.outer_j], u2)
+        ui = V.mul(rj, sh.axes[g.link_j][g.inner])
+        ri = V.cmul(sh.axes[g.link_i][g.inner], ui)
+        M = self.world(g.known_i, g.outer_i)
+        Pi = V.add(M, V.mul(ri, V.sub(pi_[g.inner], pi_[g.outer_i])))
+        w = V.sub(V.sub(Pi, G2), V.mul(rj, V.sub(pj_[g.inner], pj_[g.outer_j])))
+        det = V.cross(u2, V.scale(-1.0, ui))
+        self._parallel(g, det)
+        p2 = V.cross(w, V.scale(-1.0, ui)) / det
+        self.pose[g.link_i] = (V.sub(M, V.mul(ri, pi_[g.outer_i])), ri)
+        self.pose[g.link_j] = (V.sub(V.add(G2, V.scale(p2, u2)), V.mul(rj, pj_[g.outer_j])), rj)
 
     def _parallel(self, g, det) -> None:
         self.fail(np.abs(V.re(det)) <= PARALLEL_COND, f"group {g.name} cannot be assembled: its slide axes are parallel")

@@ -107,47 +107,54 @@ def derivatives(bp: BatchPlan, inp: Inputs, keys: list, pins: list, joints: list
     q = np.asarray(inp.q, dtype=float)
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
         run = bp.run(K, q.reshape(1, -1), 0.0, 0.0, 0, flips=_flips(bp, q), play=play)
-    N = q.size
-    out = Nominal(keys, pins, N)
-    out.valid = np.broadcast_to(run.valid[0], (N,)).copy()
+    out = Nominal(keys, pins, q.size)
+    out.valid = np.broadcast_to(run.valid[0], (q.size,)).copy()
     hv = np.array([hs[k] for k in keys]).reshape(-1, 1)
     for j in joints:
-        st = run.states[bp.plan.reporter[j]]
-        x, y = st.point(j, K.at[j])
-        x, y = np.broadcast_to(x, (D, N)), np.broadcast_to(y, (D, N))
-        out.pos[j] = np.stack([x[0].real, y[0].real], axis=1)
-        out.dpos[j] = np.stack([_imag(x[1:1 + nv], 1.0) / hv, _imag(y[1:1 + nv], 1.0) / hv], axis=2) if nv else \
-            np.zeros((0, N, 2))
-        S = np.zeros((npin, N, 2, 2))
-        for m in range(npin):
-            for c in range(2):
-                r = 1 + nv + 2 * m + c
-                S[m, :, 0, c] = _imag(x[r], hp)
-                S[m, :, 1, c] = _imag(y[r], hp)
-        out.S[j] = S
+        _joint(out, run, bp, K, j, nv, npin, hv, hp)
     for k in links:
-        c, s = run.states[k].cs
-        c, s = np.broadcast_to(c, (D, N)), np.broadcast_to(s, (D, N))
-        cr, sr = c.real, s.real
-        rho = np.arctan2(sr[0], cr[0])
-        d = (cr * s.imag - sr * c.imag) / (cr * cr + sr * sr)   # Im(log rot) per unit step
-        lk_ = lk.link(k)
-        a0 = 0.0
-        da0 = np.zeros(D)
-        if len(lk_.joints) >= 2:
-            px, py = (K.at[lk_.joints[1]][i] - K.at[lk_.joints[0]][i] for i in range(2))
-            px, py = px[:, 0], py[:, 0]
-            a0 = math.atan2(py[0].real, px[0].real)
-            da0 = (px.real * py.imag - py.real * px.imag) / (px.real ** 2 + py.real ** 2)
-        out.ang[k] = rho + a0
-        dd = d + da0[:, None]
-        out.dang[k] = dd[1:1 + nv] / hv if nv else np.zeros((0, N))
-        T = np.zeros((npin, N, 2))
-        for m in range(npin):
-            for cc in range(2):
-                T[m, :, cc] = dd[1 + nv + 2 * m + cc] / hp
-        out.T[k] = T
+        _link(out, run, lk, K, k, nv, npin, hv, hp)
     return out
+
+
+def _joint(out: Nominal, run, bp: BatchPlan, K, j: str, nv: int, npin: int, hv: np.ndarray, hp: float) -> None:
+    """Joint j's nominal path and its derivatives from the complex-step run."""
+    D, N = K.n, out.N
+    x, y = run.states[bp.plan.reporter[j]].point(j, K.at[j])
+    x, y = np.broadcast_to(x, (D, N)), np.broadcast_to(y, (D, N))
+    out.pos[j] = np.stack([x[0].real, y[0].real], axis=1)
+    out.dpos[j] = (np.stack([_imag(x[1:1 + nv], 1.0) / hv, _imag(y[1:1 + nv], 1.0) / hv], axis=2) if nv else
+                   np.zeros((0, N, 2)))
+    S = np.zeros((npin, N, 2, 2))
+    for m in range(npin):
+        for c in range(2):
+            r = 1 + nv + 2 * m + c
+            S[m, :, 0, c] = _imag(x[r], hp)
+            S[m, :, 1, c] = _imag(y[r], hp)
+    out.S[j] = S
+
+
+def _link(out: Nominal, run, lk, K, k: str, nv: int, npin: int, hv: np.ndarray, hp: float) -> None:
+    """Link k's nominal angle and its derivatives: Im(log rot) and the drawn angle's own."""
+    D, N = K.n, out.N
+    c, s = run.states[k].cs
+    c, s = np.broadcast_to(c, (D, N)), np.broadcast_to(s, (D, N))
+    cr, sr = c.real, s.real
+    d = (cr * s.imag - sr * c.imag) / (cr * cr + sr * sr)
+    a0, da0 = 0.0, np.zeros(D)
+    js = lk.link(k).joints
+    if len(js) >= 2:
+        px, py = (K.at[js[1]][i][:, 0] - K.at[js[0]][i][:, 0] for i in range(2))
+        a0 = math.atan2(py[0].real, px[0].real)
+        da0 = (px.real * py.imag - py.real * px.imag) / (px.real ** 2 + py.real ** 2)
+    out.ang[k] = np.arctan2(sr[0], cr[0]) + a0
+    dd = d + da0[:, None]
+    out.dang[k] = dd[1:1 + nv] / hv if nv else np.zeros((0, N))
+    T = np.zeros((npin, N, 2))
+    for m in range(npin):
+        for cc in range(2):
+            T[m, :, cc] = dd[1 + nv + 2 * m + cc] / hp
+    out.T[k] = T
 
 
 __all__ = ["H", "Nominal", "derivatives"]

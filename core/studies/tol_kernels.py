@@ -19,7 +19,10 @@ import numba
 import numpy as np
 
 #: Newton steps at most per maximisation (it converges in two or three)
-ITER = 12
+ITER = 40
+#: directions scanned for a start where the pins' play rivals the dimensions' deviation
+SCAN = 36
+_DIRS = np.stack([np.cos(2 * np.pi * np.arange(SCAN) / SCAN), np.sin(2 * np.pi * np.arange(SCAN) / SCAN)], axis=1)
 
 
 @numba.njit(inline="always")
@@ -30,16 +33,16 @@ def _bin(h, k: int, x: float, lo: float, w: float, nb: int) -> None:
 
 @numba.njit(inline="always")
 def _newton(nx: float, ny: float, ax: float, ay: float, r, S, k: int):
-    """The local maximum over unit n of f(φ) = n·a + Σ r_J |S_Jᵀ n| near (nx, ny), by Newton's
-    method on φ (f', f'' in closed form; the step turns n by Δφ = −f'/f'' along n⊥, renormalised;
-    where f'' ≥ 0 a gradient-ascent step n ← ∇F/|∇F| instead, which never lowers F, F being
-    convex and 1-homogeneous). Stops when the step is below 1e-10 rad (the value is then exact to
-    ~1e-20 relative). Returns the maximum and its direction."""
+    """The local maximum over unit n of f(φ) = n·a + Σ r_J |S_Jᵀ n| near (nx, ny), by a safeguarded
+    Newton's method on φ (f', f'' in closed form; the step turns n by Δφ = −f'/f'' along n⊥,
+    renormalised, at most 0.5 rad, uphill where f'' ≥ 0; a step that lowers f is halved from the
+    best direction). Stops when the step is below 1e-10 rad (the value is then exact to ~1e-20
+    relative). Returns the maximum and its direction."""
     best, bx, by = -np.inf, nx, ny
+    sx = sy = step = 0.0
     for _ in range(ITER):
         px, py = -ny, nx                       # n⊥ = dn/dφ
         f, d1, d2 = nx * ax + ny * ay, px * ax + py * ay, -(nx * ax + ny * ay)
-        gx, gy = ax, ay
         for j in range(r.shape[0]):
             tx = S[j, k, 0, 0] * nx + S[j, k, 1, 0] * ny
             ty = S[j, k, 0, 1] * nx + S[j, k, 1, 1] * ny
@@ -53,20 +56,24 @@ def _newton(nx: float, ny: float, ax: float, ay: float, r, S, k: int):
                 w = r[j] / t
                 d1 += w * tu
                 d2 += w * (ux * ux + uy * uy - t2 - tu * tu / t2)
-                gx += w * (S[j, k, 0, 0] * tx + S[j, k, 0, 1] * ty)
-                gy += w * (S[j, k, 1, 0] * tx + S[j, k, 1, 1] * ty)
-        if f > best:
-            best, bx, by = f, nx, ny
-        if d2 < 0.0:
-            dphi = -d1 / d2
-            if abs(dphi) < 1e-10:
+        if f < best:         # overshot: back to the best direction, half the step
+            step *= 0.5
+            if step < 1e-12:
                 break
-            nx, ny = nx + dphi * px, ny + dphi * py
-        else:
-            nx, ny = gx, gy
-        nn = math.sqrt(nx * nx + ny * ny)
-        if not nn > 0.0:
+            nx, ny = bx + step * sx, by + step * sy
+            nn = math.sqrt(nx * nx + ny * ny)
+            nx, ny = nx / nn, ny / nn
+            continue
+        best, bx, by = f, nx, ny
+        if d2 < 0.0:
+            dphi = max(-0.5, min(0.5, -d1 / d2))
+        else:                # not concave here: a step up the slope
+            dphi = 0.5 if d1 > 0.0 else -0.5
+        if abs(dphi) < 1e-10:
             break
+        sx, sy, step = px, py, dphi
+        nx, ny = nx + dphi * px, ny + dphi * py
+        nn = math.sqrt(nx * nx + ny * ny)
         nx, ny = nx / nn, ny / nn
     return best, bx, by
 
@@ -74,23 +81,24 @@ def _newton(nx: float, ny: float, ax: float, ay: float, r, S, k: int):
 @numba.njit(inline="always")
 def _worst(ax: float, ay: float, r, S, Q, M: float, k: int, wx: float, wy: float):
     """max over unit n of n·a + Σ r_J |S_Jᵀ n| at sample k and its direction: Newton from the
-    direction (wx, wy) (the neighbouring sample's optimum; 0, 0 for none), else from a's
-    direction, and where the pins can rival the dimensions (|a| ≤ 2M, M = Σ r_J σ_max) also from
-    the pins' principal direction (the eigenvector of Σ r_J·S_J·S_Jᵀ turned towards a)."""
-    if wx != 0.0 or wy != 0.0:
-        return _newton(wx, wy, ax, ay, r, S, k)
+    direction (wx, wy) (the neighbouring sample's optimum; 0, 0 for none) or else from a's
+    direction where the dimensions dominate (|a| > 2M: f has one maximum within 60° of a), and where the pins can rival the dimensions (|a| ≤ 2M, M = Σ r_J σ_max) also from
+    the best of a scan of 36 directions (f is then not sure to have one maximum)."""
     na = math.sqrt(ax * ax + ay * ay)
+    if (wx != 0.0 or wy != 0.0) and na > 2.0 * M:
+        return _newton(wx, wy, ax, ay, r, S, k)
     if na > 2.0 * M:
         return _newton(ax / na, ay / na, ax, ay, r, S, k)
-    qa = qb = qc = 0.0
-    for j in range(r.shape[0]):
-        qa += r[j] * Q[j, k, 0]
-        qb += r[j] * Q[j, k, 1]
-        qc += r[j] * Q[j, k, 2]
-    th = 0.5 * math.atan2(2.0 * qb, qa - qc)
-    px, py = math.cos(th), math.sin(th)
-    if px * ax + py * ay < 0.0:
-        px, py = -px, -py
+    bestv, px, py = -np.inf, 1.0, 0.0      # the pins rival the dimensions: a scan of directions first
+    for i in range(SCAN):
+        c, sn = _DIRS[i, 0], _DIRS[i, 1]
+        v = c * ax + sn * ay
+        for j in range(r.shape[0]):
+            tx = S[j, k, 0, 0] * c + S[j, k, 1, 0] * sn
+            ty = S[j, k, 0, 1] * c + S[j, k, 1, 1] * sn
+            v += r[j] * math.sqrt(tx * tx + ty * ty)
+        if v > bestv:
+            bestv, px, py = v, c, sn
     f, fx, fy = _newton(px, py, ax, ay, r, S, k)
     if na > 0.0:
         g, gx, gy = _newton(ax / na, ay / na, ax, ay, r, S, k)
@@ -113,8 +121,8 @@ def reduce_point(pos, ok, nom, nrm, nvalid, S, Q, smax, g, r, lo, width, hist_up
     normal deviation, to fails (N,) the builds not assembled where the nominal is; writes dev (B,)
     the largest distance from the nominal over the cycle (inf for a build that fails somewhere).
 
-    The largest distance: a first pass bounds every sample by |a| + M (M = Σ r_J σ_max) and finds
-    the sample of the largest |a|, where the exact worst case is found first; only samples whose
+    The largest distance: a first pass bounds every sample by |a| + M (M = Σ r_J σ_max); the exact
+    worst case is found first where that bound is largest; only samples whose
     bound exceeds the best so far are looked at again — with the tighter bound
     min(|a| + M, L + M²/(2|a|)), L = |a| + Σ r_J |S_Jᵀ â| — and maximised exactly where that
     still exceeds it (Newton from the neighbouring sample's optimum)."""
@@ -126,7 +134,7 @@ def reduce_point(pos, ok, nom, nrm, nvalid, S, Q, smax, g, r, lo, width, hist_up
     for b in range(B):
         failed = False
         rb = r[b]
-        kmax, amax = -1, -1.0
+        kmax, amax, umax = -1, -1.0, -1.0
         for k in range(N):
             na_[k] = -1.0
             if not nvalid[k]:
@@ -146,8 +154,9 @@ def reduce_point(pos, ok, nom, nrm, nvalid, S, Q, smax, g, r, lo, width, hist_up
                 G += rb[j] * g[j, k]
                 M += rb[j] * smax[j, k]
             na_[k], mk[k] = na, M
-            if na > amax:
-                amax, kmax = na, k
+            if na + M > umax:
+                umax, kmax = na + M, k
+            amax = max(amax, na)
             _bin(hist_up, k, s + G, lo[k], width[k], nb)
             _bin(hist_lo, k, s - G, lo[k], width[k], nb)
             ext[k, 0] = min(ext[k, 0], s - G)
@@ -163,31 +172,39 @@ def reduce_point(pos, ok, nom, nrm, nvalid, S, Q, smax, g, r, lo, width, hist_up
         if P == 0:
             dev[b] = amax
             continue
-        ax, ay = pos[b, kmax, 0] - nom[kmax, 0], pos[b, kmax, 1] - nom[kmax, 1]
-        best, wx, wy = _worst(ax, ay, rb, S, Q, mk[kmax], kmax, 0.0, 0.0)
-        last = -2
-        for k in range(N):
-            na = na_[k]
-            if k == kmax or na < 0.0 or na + mk[k] <= best:
-                continue
-            ax, ay = pos[b, k, 0] - nom[k, 0], pos[b, k, 1] - nom[k, 1]
-            U = na + mk[k]
-            if na > 0.0:
-                L = na
-                ux, uy = ax / na, ay / na
-                for j in range(P):
-                    tx = S[j, k, 0, 0] * ux + S[j, k, 1, 0] * uy
-                    ty = S[j, k, 0, 1] * ux + S[j, k, 1, 1] * uy
-                    L += rb[j] * math.sqrt(tx * tx + ty * ty)
-                best = max(best, L)
-                U = min(U, L + mk[k] * mk[k] / (2.0 * na))
-            if U > best:
-                warm = last == k - 1
-                v, wx, wy = _worst(ax, ay, rb, S, Q, mk[k], k, wx if warm else 0.0, wy if warm else 0.0)
-                last = k
-                if v > best:
-                    best = v
-        dev[b] = best
+        dev[b] = _exact(pos, nom, b, rb, S, Q, na_, mk, kmax)
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def _exact(pos, nom, b: int, rb, S, Q, na_, mk, kmax: int) -> float:
+    """Build b's largest distance with its pins at their worst, from the first pass's |a| (na_,
+    −1 where not assembled) and M (mk) per sample (see :func:`reduce_point`)."""
+    N, P = pos.shape[1], rb.shape[0]
+    ax, ay = pos[b, kmax, 0] - nom[kmax, 0], pos[b, kmax, 1] - nom[kmax, 1]
+    best, wx, wy = _worst(ax, ay, rb, S, Q, mk[kmax], kmax, 0.0, 0.0)
+    last = -2
+    for k in range(N):
+        na = na_[k]
+        if k == kmax or na < 0.0 or na + mk[k] <= best:
+            continue
+        ax, ay = pos[b, k, 0] - nom[k, 0], pos[b, k, 1] - nom[k, 1]
+        U = na + mk[k]
+        if na > 0.0:
+            L = na
+            ux, uy = ax / na, ay / na
+            for j in range(P):
+                tx = S[j, k, 0, 0] * ux + S[j, k, 1, 0] * uy
+                ty = S[j, k, 0, 1] * ux + S[j, k, 1, 1] * uy
+                L += rb[j] * math.sqrt(tx * tx + ty * ty)
+            best = max(best, L)
+            U = min(U, L + mk[k] * mk[k] / (2.0 * na))
+        if U > best:
+            warm = last == k - 1
+            v, wx, wy = _worst(ax, ay, rb, S, Q, mk[k], k, wx if warm else 0.0, wy if warm else 0.0)
+            last = k
+            if v > best:
+                best = v
+    return best
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy")

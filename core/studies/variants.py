@@ -20,7 +20,7 @@ from ..errors import RequestError, UnknownIdError
 from ..model.linkage import Linkage
 from ..solver.plan import unwrap_finite
 from ..solver.structure import MODAL_KINDS, GroupKind
-from ..solver.tolerances import RATE_REL, TOGGLE_COND
+from ..solver.tolerances import RATE_EPS, RATE_REL, TOGGLE_COND
 from . import vec as V
 from .bforces import BatchForces, check_forces, chunk_forces
 from .budget import check_kept, chunk_designs
@@ -66,7 +66,7 @@ def rates_valid(bp: BatchPlan, K: Constants, run: Run, valid: np.ndarray, order:
             cond = np.broadcast_to(run.outs[g.name].cond, ok.shape)
             if g.kind in MODAL_KINDS:
                 cond = cond * cond
-            ok &= 8.0 * EPS * (1.0 + c["coord"] / c["scale"]) <= RATE_REL * cond
+            ok &= RATE_EPS * EPS * (1.0 + c["coord"] / c["scale"]) <= RATE_REL * cond
         for st in run.states.values():
             rates = [st.v[0], st.v[1], st.w] + ([st.acc[0], st.acc[1], st.al] if order >= 2 else [])
             for r in rates:

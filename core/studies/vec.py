@@ -71,8 +71,8 @@ def perp(a: Pair) -> Pair:
 
 
 def polar(r, deg) -> Pair:
-    """r·(cos, sin) of ``deg`` degrees."""
-    a = np.radians(deg)
+    """r·(cos, sin) of ``deg`` degrees (complex ``deg`` too: a complex step through an angle key)."""
+    a = np.asarray(deg) * (np.pi / 180.0)
     return r * np.cos(a), r * np.sin(a)
 
 

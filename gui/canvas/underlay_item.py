@@ -16,6 +16,7 @@ from PySide6.QtWidgets import QGraphicsItem, QGraphicsScene
 from mechsketch.core.model.underlay import Underlay
 
 from .events import XY
+from ..qtsafe import qt_safe
 
 Z_UNDERLAY = -100.0
 LINE = QColor("#5b6f99")
@@ -39,6 +40,7 @@ def image_transform(u: Underlay) -> QTransform:
     return QTransform(a, b, b, -a, ox - b * h, oy + a * h)
 
 
+@qt_safe
 class UnderlayItem(QGraphicsItem):
     """One underlay: its polylines (cosmetic lines) or its picture, at the record's opacity."""
 

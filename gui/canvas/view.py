@@ -45,6 +45,7 @@ from .toolbox import ToolBox
 from .typed_input import TypedBox
 from .tools import ToolContext, delete_selection
 from .underlay_item import UnderlayLayer   # underlays (issue 22 item 6)
+from .design_layer import DesignLayer      # the Study and Design docks' band, target and preview
 from .view_input import PICK_PX, CanvasInput  # noqa: F401 - PICK_PX re-exported
 from ..qtsafe import qt_safe
 
@@ -112,6 +113,7 @@ class CanvasView(QGraphicsView):
         self._scene.setItemIndexMethod(QGraphicsScene.ItemIndexMethod.NoIndex)
         self.setScene(self._scene)
         self.underlays = UnderlayLayer(self._scene)   # drawings and pictures under everything, snapped to
+        self.design_layer = DesignLayer(self._scene, self)   # tolerance band, synthesis target, preview
         self._items: dict[str, _ElementItems] = {}
         #: Geneva drives and rolling levers: one item each, rebuilt when their result changes
         self.element_items: dict[str, GenevaItem | RollingItem] = {}
@@ -405,7 +407,7 @@ class CanvasView(QGraphicsView):
                 rect = rect.united(QRectF(min(xs), min(ys), max(xs) - min(xs), max(ys) - min(ys)))
         for item in self.element_items.values():
             rect = rect.united(item.extent())
-        return rect.united(self.underlays.extent())
+        return rect.united(self.underlays.extent()).united(self.design_layer.extent())
 
     def zoom_to_fit(self, quiet: bool = False) -> None:
         """Show the whole mechanism (its motion included) with a margin."""
@@ -474,6 +476,7 @@ class CanvasView(QGraphicsView):
         for item in self.element_items.values():
             item.set_px(px)
         self._overlay.set_px(px)
+        self.design_layer.set_px(px)
         if hasattr(self, "extras"):
             self.extras.set_px(px)
         self.viewport().update()

@@ -143,7 +143,8 @@ def test_default_steel_drive_is_inside_with_margin():
 
 @settings(max_examples=60, deadline=None)
 @given(e_roller=st.floats(1e-3, 1e7), e_wheel=st.floats(1e-3, 1e7), nu=st.floats(-0.9, 0.49),
-       inertia=st.floats(0, 5), mext=st.floats(-50, 50), z=st.integers(3, 10),
+       inertia=st.one_of(st.just(0.0), st.floats(1e-12, 5)),   # the model's range: 0 or at least 1e-12 kg·m²
+       mext=st.floats(-50, 50), z=st.integers(3, 10),
        model=st.sampled_from([ContactModel(), ContactModel(half_width="hertz"),
                               ContactModel(half_width="paper_full", slip_radius="undeformed"),
                               ContactModel(normal_force="paper")]))

@@ -64,12 +64,12 @@ def test_paste_in_another_window(shell, qtbot):
     keys(qtbot, first.window, Qt.Key.Key_C)
     second = shell()
     QCursor.setPos(QPoint(-100, -100))                    # not over the canvas: beside where it was
-    keys(qtbot, second.window, Qt.Key.Key_V)
+    shift = second.window.clipboard_commands._offset()    # 24 px at the zoom of the paste (the view
+    keys(qtbot, second.window, Qt.Key.Key_V)              # then shows the new element: zoom may change)
     ids = second.controller.scene.ids
     assert ids == ("fourbar", lever.id)
     got = second.controller.scene.element(lever.id)
     assert got.lever_circle.radius == lever.lever_circle.radius and got.pin != lever.pin
-    shift = second.window.clipboard_commands._offset()
     assert got.pin == pytest.approx((lever.pin[0] + shift, lever.pin[1] - shift), abs=1e-9)
 
 
