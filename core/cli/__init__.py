@@ -235,7 +235,7 @@ def run(args: argparse.Namespace) -> int:
     elif args.command == "export":
         from .export_cmds import run_export
 
-        print(run_export(ws, args))
+        print(run_export(ws, args, _handler))
     elif args.command == "synthesize":
         el = _pick(scene, args.element, "synthesize")
         _emit(_handler(el, "synthesize")(ws, el.id), args.csv, args.summary)

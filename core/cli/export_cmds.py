@@ -2,10 +2,15 @@
 that ``mechsketch validate`` runs as its manufacturability warnings (the same parts, the same
 check: a scene whose validation has no warning exports; ``validate --strict`` makes them errors).
 
-    mechsketch export SCENE [--element ID] (--dxf PATH | --svg PATH) [--layout assembled|apart]
+    mechsketch export SCENE [--element ID] (--dxf PATH | --svg PATH | --pdf PATH) [--layout assembled|apart]
                       [--parts P,...] [--split] [--arcs bulge|entities] [--annotate] [--kerf MM]
                       [--tolerance MM] [--min-web MM] [--boss-radius MM] [--bore-diameter MM]
-                      [--link-width MM] [--frame plate|drill] [--depth MM]
+                      [--link-width MM] [--frame plate|drill] [--depth MM] [--material TEXT]
+                      [--thickness MM]
+
+``--pdf`` writes a drawing sheet per element (every element with parts unless ``--element``
+is given) through a renderer the caller supplies (:data:`PDF_WRITER`: the ``mechsketch``
+launcher sets Qt's; core never imports Qt).
 
 An option that does not apply to the element (``--depth`` for a Geneva drive, ``--arcs`` for an
 SVG) is refused, not ignored, and so is a size that is not a positive number.
@@ -16,8 +21,9 @@ building the parser, which every command does, imports neither.
 from __future__ import annotations
 
 import argparse
+import math
 import sys
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Callable
 
 from ..errors import MechsketchError, Problem, RequestError, StructureError
 
@@ -62,6 +68,10 @@ def add_export_parser(sub) -> argparse.ArgumentParser:
     out = e.add_mutually_exclusive_group(required=True)
     out.add_argument("--dxf", metavar="PATH", help="write DXF R2010 in millimetres")
     out.add_argument("--svg", metavar="PATH", help="write SVG in millimetres")
+    out.add_argument("--pdf", metavar="PATH", help="write a drawing sheet (A4/A3) per element: the parts to scale, "
+                     "dimensioned, with a title block and the analysis summary (needs Qt: the 'mechsketch' command)")
+    e.add_argument("--material", metavar="TEXT", help="PDF: the title block's material field (default blank)")
+    e.add_argument("--thickness", type=float, metavar="MM", help="PDF: the title block's thickness field")
     e.add_argument("--layout", choices=LAYOUTS, default="apart",
                    help="apart: parts side by side, named (default); assembled: in the mechanism's pose")
     e.add_argument("--parts", metavar="P,...", help="only these parts (names as in the report)")
@@ -134,11 +144,22 @@ def _plan(ws: Workspace, el):
     return ws.plan(el.id) if isinstance(el, Linkage) else None
 
 
-def run_export(ws: Workspace, args: argparse.Namespace) -> str:
-    """Build, check and write the parts; returns the report."""
+#: ``write(pages, path, title)`` of a PDF renderer (``mechsketch.gui.drawing_pdf.write_pdf``), set
+#: by the launcher; None: ``--pdf`` is refused with what to run instead
+PDF_WRITER: Callable[..., None] | None = None
+
+
+def run_export(ws: Workspace, args: argparse.Namespace, handler: Callable | None = None) -> str:
+    """Build, check and write the parts; returns the report. ``handler(element, command)``: the
+    CLI's command lookup (``--pdf`` takes the analysis summary from ``analyze``)."""
     from ..analyses.parts.build import element_parts, min_web_of
     from ..io.export_parts import export_parts
 
+    if getattr(args, "pdf", None) is not None:
+        return run_drawing(ws, args, handler)
+    for flag, value in (("--material", getattr(args, "material", None)), ("--thickness", getattr(args, "thickness", None))):
+        if value is not None:
+            raise RequestError(f"{flag} applies to --pdf only (a cut file has no title block)")
     scene = ws.scene
     if args.element is not None:
         el = scene.element(args.element)
@@ -182,3 +203,69 @@ def drawing_warnings(ws: Workspace) -> list[Problem]:
             lines = [f"its parts cannot be built: {exc}"]
         out += [Problem(f"$.elements[{k}]", line, el.id) for line in lines]
     return out
+
+
+def analysis_summary(ws: Workspace, el, handler: Callable | None) -> list[str]:
+    """The lines of the element's analysis summary (``analyze``, with the forces of a loaded
+    linkage; ``synthesize`` for a rolling lever), or one line saying why there is none."""
+    from ..errors import MechsketchError
+
+    if handler is None:
+        return []
+    commands = ["analyze_forces", "analyze", "synthesize"] if getattr(el, "loads", ()) else ["analyze", "synthesize"]
+    for command in commands:
+        try:
+            return handler(el, command)(ws, el.id).summary.splitlines()
+        except MechsketchError as exc:
+            last = str(exc)
+    return [f"no analysis: {last}"]
+
+
+def run_drawing(ws: Workspace, args: argparse.Namespace, handler: Callable | None = None) -> str:
+    """``export --pdf``: a drawing sheet per element (see the module docstring); the report."""
+    from pathlib import Path
+
+    from ..analyses.parts import require_checked
+    from ..analyses.parts.build import element_parts, min_web_of
+    from ..errors import GeometryError
+    from ..io.drawing_sheet import drawing_page
+
+    if PDF_WRITER is None:
+        raise RequestError("--pdf needs Qt's PDF writer: run it with the 'mechsketch' command (mechsketch export "
+                           "SCENE --pdf PATH), which has the desktop app's libraries")
+    refuse = [f for f, v in (("--arcs", args.arcs), ("--kerf", args.kerf), ("--split", args.split or None),
+                             ("--annotate", args.annotate or None), ("--parts", args.parts)) if v is not None]
+    if refuse or args.layout != "apart":
+        raise RequestError(f"{', '.join(refuse) or '--layout assembled'} do not apply to --pdf (the sheet draws "
+                           "every part flat, dimensioned)")
+    if args.thickness is not None and not (math.isfinite(args.thickness) and args.thickness > 0):
+        raise RequestError(f"--thickness must be a positive number of millimetres; got {args.thickness:g}")
+    els = [ws.scene.element(args.element)] if args.element is not None else \
+        [e for e in ws.scene.elements if e.type != "underlay"]
+    if not els:
+        raise RequestError("the scene has no element to draw")
+    sets, skipped = [], []
+    for el in els:
+        if args.element is not None:
+            refuse_what_does_not_apply(el, args)
+        opts = options_of(args)
+        try:
+            ps = element_parts(el, opts, _plan(ws, el))
+        except GeometryError as exc:
+            if args.element is not None or "no parts" not in str(exc):
+                raise
+            skipped.append(f"  {el.id}: no sheet ({exc})")
+            continue
+        require_checked(ps, min_web_of(el, opts), opts.vocabulary)
+        sets.append((el, ps))
+    if not sets:
+        raise RequestError("no element of the scene has parts to draw")
+    pages = [drawing_page(ps, Path(args.scene).name, analysis_summary(ws, el, handler), args.material or "",
+                          f"{args.thickness:g}" if args.thickness else "", sheet=(k + 1, len(sets)))
+             for k, (el, ps) in enumerate(sets)]
+    PDF_WRITER(pages, args.pdf, f"{Path(args.scene).name}: drawing")
+    lines = [f"wrote {args.pdf}: {len(pages)} drawing sheet(s), landscape, millimetres"]
+    for page, (el, ps) in zip(pages, sets):
+        lines.append(f"  {el.id}: {page.paper} at {page.scale_text}, {len(ps.parts)} part(s), "
+                     f"{len(page.dimensions)} dimension(s)")
+    return "\n".join(lines + skipped)
