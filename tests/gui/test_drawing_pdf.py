@@ -23,6 +23,8 @@ from mechsketch.core.io.drawing_sheet import drawing_page
 from mechsketch.gui.drawing_pdf import page_image
 from mechsketch.gui.launcher import main
 
+from app_fakes import shell  # noqa: F401 - fixture
+
 EXAMPLES = sorted(p.stem for p in resources.example_path("geneva_z6").parent.glob("*.json"))
 PAPER_PT = {"A4": (842, 595), "A3": (1191, 842)}
 
@@ -113,3 +115,29 @@ def test_pdf_requests_that_cannot_be_met_are_refused(tmp_path, capsys, monkeypat
     assert main(["export", scene, "--pdf", str(tmp_path / "no" / "a.pdf")]) == 1
     assert "cannot write" in capsys.readouterr().err
     assert not list(tmp_path.rglob("*.pdf")) and not list(tmp_path.rglob("*.dxf"))
+
+
+def test_file_export_drawing_writes_the_sheet_the_command_writes(shell, tmp_path):
+    """File › Export Drawing (PDF)…: the window's scene (the four-bar with its coupler point) as
+    one A4 sheet, read back; an unwritable folder is an error message and nothing is written."""
+    parts = shell()
+    w = parts.window
+    action = w.actions["export_drawing"]
+    assert action in w.menuBar().actions()[0].menu().actions()
+    parts.dialogs.save_names.append(str(tmp_path / "sheet"))
+    action.trigger()
+    reader = pypdf.PdfReader(tmp_path / "sheet.pdf")
+    el = next(e for e in w.controller.scene.elements if e.type == "linkage")
+    assert len(reader.pages) == 1
+    text = words(reader.pages[0].extract_text())
+    assert el.id in text and "units: mm" in text and "Grashof" in text
+    for link in el.links:
+        if len(link.joints) == 2:
+            a, b = (np.asarray(el.joint(j).at) for j in link.joints)
+            assert f"{float(np.hypot(*(a - b))):.2f}" in text
+    title, report = parts.dialogs.infos[-1]
+    assert title == "Drawing exported" and "A4" in report
+    parts.dialogs.save_names.append(str(tmp_path / "missing" / "sheet.pdf"))
+    action.trigger()
+    title, text, _ = parts.dialogs.errors[-1]
+    assert title == "Export Drawing" and "cannot write" in text and not (tmp_path / "missing").exists()
