@@ -6,7 +6,7 @@ check: a scene whose validation has no warning exports; ``validate --strict`` ma
                       [--parts P,...] [--split] [--arcs bulge|entities] [--annotate] [--kerf MM]
                       [--tolerance MM] [--min-web MM] [--boss-radius MM] [--bore-diameter MM]
                       [--link-width MM] [--frame plate|drill] [--depth MM] [--material TEXT]
-                      [--thickness MM]
+                      [--thickness MM] [--fasteners MM] [--base-plate]
 
 ``--pdf`` writes a drawing sheet per element (every element with parts unless ``--element``
 is given) through a renderer the caller supplies (:data:`PDF_WRITER`: the ``mechsketch``
@@ -42,7 +42,7 @@ DEFAULT_TOLERANCE = 0.001
 EXPORT_FLAGS = (("boss_radius", "--boss-radius"), ("bore_diameter", "--bore-diameter"),
                 ("link_width", "--link-width"), ("min_web", "--min-web"), ("tolerance", "--tolerance"),
                 ("depth", "--depth"), ("frame", "--frame"), ("kerf", "--kerf"), ("arcs_entities", "--arcs entities"),
-                ("annotate", "--annotate"))
+                ("annotate", "--annotate"), ("fasteners", "--fasteners"), ("base_plate", "--base-plate"))
 
 
 def export_vocabulary() -> Vocabulary:
@@ -92,12 +92,18 @@ def add_export_parser(sub) -> argparse.ArgumentParser:
     e.add_argument("--frame", choices=("plate", "drill"), default=None,
                    help="a linkage's frame as a plate or as the drilling pattern of its pivots")
     e.add_argument("--depth", type=float, metavar="MM", help="rolling-lever frame and slider plates")
+    e.add_argument("--fasteners", type=float, metavar="MM", help="rolling lever: fastener holes of this diameter in the "
+                   "frame and slider plates (2 each), matched in the frame's drilling pattern or base plate")
+    e.add_argument("--base-plate", dest="base_plate", action="store_const", const=True, default=None,
+                   help="rolling lever: a base plate carrying every pivot (and the frame plate's fasteners) "
+                        "instead of the drilling pattern")
     return e
 
 
 #: export option (PartOptions field) -> its flag, for the options that only some elements take
 ELEMENT_FLAGS = {"boss_radius": "--boss-radius", "bore_diameter": "--bore-diameter", "link_width": "--link-width",
-                 "frame": "--frame", "depth": "--depth", "tolerance": "--tolerance"}
+                 "frame": "--frame", "depth": "--depth", "tolerance": "--tolerance", "fasteners": "--fasteners",
+                 "base_plate": "--base-plate"}
 
 
 def options_of(args: argparse.Namespace) -> PartOptions:
@@ -107,7 +113,7 @@ def options_of(args: argparse.Namespace) -> PartOptions:
     return PartOptions(tolerance=args.tolerance if args.tolerance is not None else DEFAULT_TOLERANCE,
                        min_web=args.min_web, boss_radius=args.boss_radius, bore_diameter=args.bore_diameter,
                        link_width=args.link_width, frame=args.frame or "plate", depth=args.depth,
-                       vocabulary=export_vocabulary())
+                       fasteners=args.fasteners, base_plate=bool(args.base_plate), vocabulary=export_vocabulary())
 
 
 def refuse_what_does_not_apply(el, args: argparse.Namespace) -> None:
@@ -132,7 +138,7 @@ def refuse_what_does_not_apply(el, args: argparse.Namespace) -> None:
     for flag, value, zero_ok in (("--tolerance", args.tolerance, False), ("--min-web", args.min_web, True),
                                  ("--kerf", args.kerf, True), ("--boss-radius", args.boss_radius, False),
                                  ("--bore-diameter", args.bore_diameter, True), ("--link-width", args.link_width, False),
-                                 ("--depth", args.depth, False)):
+                                 ("--depth", args.depth, False), ("--fasteners", args.fasteners, False)):
         if value is not None and not (math.isfinite(value) and (value >= 0 if zero_ok else value > 0)):
             raise RequestError(f"{flag} must be a {'non-negative' if zero_ok else 'positive'} number of millimetres; "
                                f"got {value:g}")

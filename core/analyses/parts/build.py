@@ -35,7 +35,9 @@ class PartOptions:
 
     ``tolerance``: fitted curves (rolling profiles, coupler traces); ``min_web``: the thinnest web
     (None: the element's ``drawing.min_web`` or 1 mm); linkages: ``boss_radius``,
-    ``bore_diameter``, ``link_width``, ``frame`` ("plate" | "drill"); rolling levers: ``depth``.
+    ``bore_diameter``, ``link_width``, ``frame`` ("plate" | "drill"); rolling levers: ``depth``, ``fasteners`` (the diameter of
+    the frame and slider plates' fastener holes, matched where they mount) and ``base_plate``
+    (a plate carrying every pivot and the frame plate's fasteners instead of a drilling pattern).
     ``vocabulary``: how the front end asking names these options in messages (:mod:`.keys`).
     """
 
@@ -46,6 +48,8 @@ class PartOptions:
     link_width: float | None = None
     frame: str = "plate"
     depth: float | None = None
+    fasteners: float | None = None
+    base_plate: bool = False
     vocabulary: Vocabulary = API
 
 
@@ -101,7 +105,8 @@ def element_parts(element, options: PartOptions = PartOptions(), plan: Plan | No
     if isinstance(element, RollingLever):
         depth_name = options.vocabulary.option("depth") or "the plate depth"
         return rolling_parts(synthesize(element, measures=False),
-                             RollingStyle(depth=options.depth, tolerance=options.tolerance, depth_name=depth_name))
+                             RollingStyle(depth=options.depth, tolerance=options.tolerance, depth_name=depth_name,
+                                          fasteners=options.fasteners, base_plate=options.base_plate))
     if isinstance(element, (GearPair, GearedGeneva)):   # issue 25: pitch-curve blanks (and the drive)
         return gear_parts(element)
     raise GeometryError(f"element {getattr(element, 'id', '?')!r} of type {getattr(element, 'type', '?')!r} "
@@ -122,7 +127,7 @@ def applicable_options(element) -> frozenset[str]:
                      for j in element.joints)
         return COMMON_OPTIONS | {"boss_radius", "bore_diameter", "link_width", "frame"} | ({"tolerance"} if traced else set())
     if isinstance(element, RollingLever):
-        return COMMON_OPTIONS | {"depth", "tolerance"}
+        return COMMON_OPTIONS | {"depth", "tolerance", "fasteners", "base_plate"}
     return COMMON_OPTIONS
 
 
