@@ -6,7 +6,7 @@ check: a scene whose validation has no warning exports; ``validate --strict`` ma
                       [--parts P,...] [--split] [--arcs bulge|entities] [--annotate] [--kerf MM]
                       [--tolerance MM] [--min-web MM] [--boss-radius MM] [--bore-diameter MM]
                       [--link-width MM] [--frame plate|drill] [--depth MM] [--material TEXT]
-                      [--thickness MM] [--fasteners MM] [--base-plate]
+                      [--thickness MM] [--fasteners MM] [--base-plate] [--bore-key keyway|flat]
 
 ``--pdf`` writes a drawing sheet per element (every element with parts unless ``--element``
 is given) through a renderer the caller supplies (:data:`PDF_WRITER`: the ``mechsketch``
@@ -42,7 +42,7 @@ DEFAULT_TOLERANCE = 0.001
 EXPORT_FLAGS = (("boss_radius", "--boss-radius"), ("bore_diameter", "--bore-diameter"),
                 ("link_width", "--link-width"), ("min_web", "--min-web"), ("tolerance", "--tolerance"),
                 ("depth", "--depth"), ("frame", "--frame"), ("kerf", "--kerf"), ("arcs_entities", "--arcs entities"),
-                ("annotate", "--annotate"), ("fasteners", "--fasteners"), ("base_plate", "--base-plate"))
+                ("annotate", "--annotate"), ("fasteners", "--fasteners"), ("base_plate", "--base-plate"), ("bore_key", "--bore-key"))
 
 
 def export_vocabulary() -> Vocabulary:
@@ -94,6 +94,8 @@ def add_export_parser(sub) -> argparse.ArgumentParser:
     e.add_argument("--depth", type=float, metavar="MM", help="rolling-lever frame and slider plates")
     e.add_argument("--fasteners", type=float, metavar="MM", help="rolling lever: fastener holes of this diameter in the "
                    "frame and slider plates (2 each), matched in the frame's drilling pattern or base plate")
+    e.add_argument("--bore-key", dest="bore_key", choices=("keyway", "flat"), default=None,
+                   help="key the shaft bores (Geneva wheel and crank, a linkage's driver): a DIN 6885 keyway or a flat")
     e.add_argument("--base-plate", dest="base_plate", action="store_const", const=True, default=None,
                    help="rolling lever: a base plate carrying every pivot (and the frame plate's fasteners) "
                         "instead of the drilling pattern")
@@ -103,7 +105,7 @@ def add_export_parser(sub) -> argparse.ArgumentParser:
 #: export option (PartOptions field) -> its flag, for the options that only some elements take
 ELEMENT_FLAGS = {"boss_radius": "--boss-radius", "bore_diameter": "--bore-diameter", "link_width": "--link-width",
                  "frame": "--frame", "depth": "--depth", "tolerance": "--tolerance", "fasteners": "--fasteners",
-                 "base_plate": "--base-plate"}
+                 "base_plate": "--base-plate", "bore_key": "--bore-key"}
 
 
 def options_of(args: argparse.Namespace) -> PartOptions:
@@ -113,7 +115,8 @@ def options_of(args: argparse.Namespace) -> PartOptions:
     return PartOptions(tolerance=args.tolerance if args.tolerance is not None else DEFAULT_TOLERANCE,
                        min_web=args.min_web, boss_radius=args.boss_radius, bore_diameter=args.bore_diameter,
                        link_width=args.link_width, frame=args.frame or "plate", depth=args.depth,
-                       fasteners=args.fasteners, base_plate=bool(args.base_plate), vocabulary=export_vocabulary())
+                       fasteners=args.fasteners, base_plate=bool(args.base_plate), bore_key=args.bore_key,
+                       vocabulary=export_vocabulary())
 
 
 def refuse_what_does_not_apply(el, args: argparse.Namespace) -> None:

@@ -8,6 +8,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 from ...errors import GeometryError
 from ...model.drawing import DEFAULT_MIN_WEB, LinkageDrawing
 from ...model.gear_pair import GearPair
@@ -16,7 +18,9 @@ from ...model.geneva import Geneva
 from ...model.linkage import Linkage
 from ...model.rolling_lever import RollingLever
 from ...solver.plan import Plan, compile_plan
+from .bore_keys import key_bores
 from .gears import gear_parts
+from .outline import is_circle
 from .keys import API, Vocabulary, name_of
 from .geneva import geneva_parts
 from .linkage import LinkageStyle, linkage_parts
@@ -38,6 +42,8 @@ class PartOptions:
     ``bore_diameter``, ``link_width``, ``frame`` ("plate" | "drill"); rolling levers: ``depth``, ``fasteners`` (the diameter of
     the frame and slider plates' fastener holes, matched where they mount) and ``base_plate``
     (a plate carrying every pivot and the frame plate's fasteners instead of a drilling pattern).
+    ``bore_key`` ("keyway" | "flat"): key the shaft bores (Geneva drives, a linkage's driver;
+    :mod:`.bore_keys`).
     ``vocabulary``: how the front end asking names these options in messages (:mod:`.keys`).
     """
 
@@ -50,6 +56,7 @@ class PartOptions:
     depth: float | None = None
     fasteners: float | None = None
     base_plate: bool = False
+    bore_key: str | None = None
     vocabulary: Vocabulary = API
 
 
@@ -96,6 +103,32 @@ def element_parts(element, options: PartOptions = PartOptions(), plan: Plan | No
     """The cut-ready parts of ``element`` (a Geneva drive, a linkage or a rolling lever); ``plan``
     reuses a compiled linkage. Raises :class:`GeometryError` (or the solver's StructureError)
     naming what to change when they cannot be built."""
+    ps = _unkeyed_parts(element, options, plan)
+    if options.bore_key is None:
+        return ps
+    return key_bores(ps, _shafts(element, ps), options.bore_key, "option:bore_key")
+
+
+def _shafts(element, ps: PartSet) -> dict[str, list[tuple[tuple[float, float], float]]]:
+    """Per part, its shaft bores' centres (mm) and the direction (rad) its key points."""
+    if isinstance(element, Geneva):
+        bores = {p.name: [is_circle(h)[0] for h in p.holes if h.kinds and h.kinds[0] == "bore"] for p in ps.parts}
+        crank = bores.get("crank_arm") or bores.get("locking_disc")
+        wheel = bores.get("wheel")
+        out = {}
+        if crank and wheel:
+            (cx, cy), (wx, wy) = crank[0], wheel[0]
+            to_wheel = math.atan2(wy - cy, wx - cx)
+            out = {"crank_arm": [(crank[0], to_wheel + math.pi)], "locking_disc": [(crank[0], to_wheel + math.pi)],
+                   "wheel": [(wheel[0], to_wheel + math.pi + math.pi / element.slots)]}
+        return out
+    pivot = element.joint(element.driver.pivot).at
+    others = [element.joint(j).at for j in element.link(element.driver.link).joints if j != element.driver.pivot]
+    away = math.atan2(*(np.asarray(pivot) - np.mean(others, axis=0))[::-1]) if others else 0.0
+    return {element.driver.link: [(tuple(pivot), away)]}
+
+
+def _unkeyed_parts(element, options: PartOptions, plan: Plan | None) -> PartSet:
     if isinstance(element, Geneva):
         return geneva_parts(element)
     if isinstance(element, Linkage):
@@ -125,9 +158,12 @@ def applicable_options(element) -> frozenset[str]:
     if isinstance(element, Linkage):
         traced = any(len(element.links_of(j.id)) == 1 and element.links_of(j.id)[0] != element.ground
                      for j in element.joints)
-        return COMMON_OPTIONS | {"boss_radius", "bore_diameter", "link_width", "frame"} | ({"tolerance"} if traced else set())
+        return COMMON_OPTIONS | {"boss_radius", "bore_diameter", "link_width", "frame", "bore_key"} | \
+            ({"tolerance"} if traced else set())
     if isinstance(element, RollingLever):
         return COMMON_OPTIONS | {"depth", "tolerance", "fasteners", "base_plate"}
+    if isinstance(element, Geneva):
+        return COMMON_OPTIONS | {"bore_key"}
     return COMMON_OPTIONS
 
 
