@@ -23,13 +23,18 @@ DIALOG_VOCABULARY = Vocabulary((
     ("kerf", "the dialog's Kerf"), ("boss_radius", "the dialog's Boss radius"),
     ("bore_diameter", "the dialog's Bore diameter"), ("link_width", "the dialog's Link width"),
     ("depth", "the dialog's Plate depth"), ("frame", "the dialog's Frame"),
-    ("arcs_entities", "the dialog's DXF entities: LINE and ARC"), ("annotate", "the dialog's Annotate box")),
+    ("arcs_entities", "the dialog's DXF entities: LINE and ARC"), ("annotate", "the dialog's Annotate box"),
+    ("fasteners", "the dialog's Fasteners"), ("base_plate", "the dialog's Base plate box"),
+    ("bore_key", "the dialog's Bore key")),
     "the export dialog")
 #: what the DXF entity styles are for (shown in the dialog)
 ARC_CHOICES = (("bulge", "Bulge polylines: AutoCAD, LibreCAD, QCAD, FreeCAD, GDAL"),
                ("entities", "LINE and ARC: older CAM (dxf2gcode, some plasma and laser software)"))
 #: element type -> the plate fields that apply
-PLATE_FIELDS = {"linkage": ("boss_radius", "bore_diameter", "link_width", "frame"), "rolling_lever": ("depth",)}
+PLATE_FIELDS = {"linkage": ("boss_radius", "bore_diameter", "link_width", "frame", "bore_key"),
+                "rolling_lever": ("depth", "fasteners", "base_plate"), "geneva": ("bore_key",)}
+#: the bore key choices: (PartOptions.bore_key, shown)
+KEY_CHOICES = ((None, "none"), ("keyway", "keyway (DIN 6885-1)"), ("flat", "flat (D-bore)"))
 FITTED = ("linkage", "rolling_lever")
 
 
@@ -101,16 +106,26 @@ class ExportDialog(QDialog):
         self.frame = QComboBox()
         self.frame.addItems(["plate", "drill"])
         self.frame.setToolTip("plate: the frame as a plate; drill: only the drilling pattern of its pivots")
+        self.fasteners = _size(top=100.0, special="none")
+        self.fasteners.setToolTip("Diameter of two fastener holes in the frame and slider plates, matched in the "
+                                  "frame's drilling pattern or base plate")
+        self.base_plate = QCheckBox("a plate carrying every pivot and the frame's fasteners")
+        self.bore_key = QComboBox()
+        for key, text in KEY_CHOICES:
+            self.bore_key.addItem(text, key)
+        self.bore_key.setToolTip("Key the shaft bores (Geneva wheel and crank, a linkage's driver)")
         for name, box in (("boss_radius", self.boss_radius), ("bore_diameter", self.bore_diameter),
                           ("link_width", self.link_width)):
             box.setValue((sizes or {}).get(name, 0.0))
         self.readers = QLabel()
         self.readers.setWordWrap(True)
+        self.readers.setMinimumHeight(3 * self.readers.fontMetrics().lineSpacing())   # two lines, not clipped
         for label, w in (("Element", self.element), ("Parts", self.parts), ("Layout", self.layout_box),
                          ("", self.split), ("DXF entities", self.arcs), ("", self.readers), ("Annotate", self.annotate),
                          ("Kerf", self.kerf), ("Curve tolerance", self.tolerance), ("Minimum web", self.min_web),
                          ("Boss radius", self.boss_radius), ("Bore diameter", self.bore_diameter),
-                         ("Link width", self.link_width), ("Frame", self.frame), ("Plate depth", self.depth)):
+                         ("Link width", self.link_width), ("Frame", self.frame), ("Plate depth", self.depth),
+                         ("Fasteners", self.fasteners), ("Base plate", self.base_plate), ("Bore key", self.bore_key)):
             form.addRow(label, w)
         buttons = QDialogButtonBox(QDialogButtonBox.StandardButton.Ok | QDialogButtonBox.StandardButton.Cancel)
         buttons.accepted.connect(self.accept)
@@ -128,7 +143,8 @@ class ExportDialog(QDialog):
         self.min_web.setValue(self.min_webs.get(eid, DEFAULT_MIN_WEB))
         kind = self.kinds.get(eid)
         fields = PLATE_FIELDS.get(kind, ())
-        for name in ("boss_radius", "bore_diameter", "link_width", "frame", "depth"):
+        for name in ("boss_radius", "bore_diameter", "link_width", "frame", "depth", "fasteners", "base_plate",
+                     "bore_key"):
             getattr(self, name).setEnabled(name in fields)
         self.tolerance.setEnabled(kind in FITTED or kind is None)
 
@@ -152,6 +168,9 @@ class ExportDialog(QDialog):
                            boss_radius=value(self.boss_radius), bore_diameter=value(self.bore_diameter),
                            link_width=value(self.link_width), depth=value(self.depth),
                            frame=self.frame.currentText() if self.frame.isEnabled() else "plate",
+                           fasteners=value(self.fasteners),
+                           base_plate=self.base_plate.isEnabled() and self.base_plate.isChecked(),
+                           bore_key=self.bore_key.currentData() if self.bore_key.isEnabled() else None,
                            vocabulary=DIALOG_VOCABULARY)
         return ExportRequest(self.element.currentText(), self.fmt, self.layout_box.currentText(), names,
                              self.split.isChecked(), self.arcs.currentData() if self.fmt == "dxf" else "bulge", opts,

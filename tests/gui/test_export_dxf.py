@@ -136,7 +136,8 @@ def test_the_export_dialog_builds_the_request(qtbot):
     assert dlg.element.currentText() == "b" and dlg.min_web.value() == 2.5 and "all: r" in dlg.parts.placeholderText()
     # a Geneva drive takes no plate sizes, no depth, no curve tolerance: those fields are off
     assert not any(w.isEnabled() for w in (dlg.boss_radius, dlg.bore_diameter, dlg.link_width, dlg.frame,
-                                           dlg.depth, dlg.tolerance))
+                                           dlg.depth, dlg.tolerance, dlg.fasteners, dlg.base_plate))
+    assert dlg.bore_key.isEnabled()          # a Geneva drive's wheel and crank bores take a key
     assert dlg.request().options.boss_radius is None
     dlg.element.setCurrentText("a")
     assert dlg.boss_radius.isEnabled() and not dlg.depth.isEnabled() and dlg.boss_radius.value() == 7.5
@@ -183,3 +184,24 @@ def test_cancelling_the_file_dialog_exports_nothing(shell):
     parts.dialogs.save_names.append(None)
     assert parts.window.export_dxf() is False and not parts.window.exporter.busy
     assert parts.dialogs.questions[-1][1].endswith("inclined.dxf")
+
+
+def test_the_dialogs_fasteners_base_plate_and_bore_key_reach_the_parts(qtbot):
+    """Issue 23 item 5 in the dialog: the rolling lever's fasteners and base plate, a linkage's
+    bore key; each only where it applies (a linkage takes no fasteners)."""
+    dlg = ExportDialog("Export DXF", {"r": ("frame",), "l": ("crank",)}, "r", "dxf", {"r": 1.0, "l": 1.0},
+                       kinds={"r": "rolling_lever", "l": "linkage"})
+    qtbot.addWidget(dlg)
+    assert dlg.fasteners.isEnabled() and dlg.base_plate.isEnabled() and not dlg.bore_key.isEnabled()
+    dlg.fasteners.setValue(5.0)
+    dlg.base_plate.setChecked(True)
+    opts = dlg.request().options
+    assert (opts.fasteners, opts.base_plate, opts.bore_key) == (5.0, True, None)
+    dlg.element.setCurrentText("l")
+    dlg.bore_key.setCurrentIndex(dlg.bore_key.findData("flat"))
+    opts = dlg.request().options
+    assert (opts.fasteners, opts.base_plate, opts.bore_key) == (None, False, "flat")
+    scene = load_scene(resources.example_path("fourbar_crank_rocker"))
+    keyed = parts_build.element_parts(scene.elements[0], opts)
+    crank = next(p for p in keyed.parts if p.name == scene.elements[0].driver.link)
+    assert any(h.kinds and h.kinds[0] == "flat" for h in crank.holes)
