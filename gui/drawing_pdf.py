@@ -26,12 +26,15 @@ _SIZES = {"A4": QPageSize.PageSizeId.A4, "A3": QPageSize.PageSizeId.A3}
 
 
 def ensure_gui_application() -> QGuiApplication:
-    """The running Qt application, or an offscreen one for a headless command (fonts need it)."""
+    """The running Qt application, or an offscreen one for a headless command (fonts need it): a
+    QApplication, so that the app or a test's widgets can run in the same process afterwards."""
     app = QGuiApplication.instance()
     if app is None:
+        from PySide6.QtWidgets import QApplication
+
         if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
             os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
-        app = QGuiApplication(sys.argv[:1] or ["mechsketch"])
+        app = QApplication(sys.argv[:1] or ["mechsketch"])
     return app
 
 
