@@ -222,3 +222,38 @@ def test_disc_hull_against_shapely():
         assert poly.area == pytest.approx(ref.area, rel=1e-5)
         assert poly.symmetric_difference(ref).area < 1e-3 * ref.length
     lay_out  # noqa: B018 - imported for the apart layout used above
+
+
+def test_a_separate_guide_plate_is_fastened_to_its_link_through_matching_holes(tmp_path):
+    """Issue 23 item 5: ``fasteners`` drills two holes beyond the ends of a separate guide
+    plate's slot, the same centres in the link it is stacked on; both parts keep their webs
+    (shapely: the fastener's distance to every other boundary of the guide plate), the assembled
+    export read back by GDAL has the guide plate's area less the two holes; a linkage without a
+    separate guide plate refuses the option; a fastener wider than the rim is refused."""
+    from mechsketch.core.analyses.parts import check_part, is_circle
+    from mechsketch.core.analyses.parts.build import PartOptions, element_parts
+    from ogr_readback import ogr_layers
+
+    el = example("sixbar_moving_guide")
+    plain = {p.name: p for p in element_parts(el, PartOptions()).parts}
+    ps = element_parts(el, PartOptions(fasteners=4.0))
+    by = {p.name: p for p in ps.parts}
+
+    def fasteners(p):
+        return sorted(tuple(np.round(is_circle(h)[0], 9)) for h in p.holes if h.kinds and h.kinds[0] == "fastener")
+
+    assert len(fasteners(by["rocker_guide_Q"])) == 2 and fasteners(by["rocker_guide_Q"]) == fasteners(by["rocker"])
+    for name in ("rocker_guide_Q", "rocker"):
+        assert check_part(by[name], 1.0).web >= 1.1
+        poly = by[name].polygon(1e-6)
+        for x, y in fasteners(by[name]):
+            rings = [poly.exterior] + [r for r in poly.interiors if r.distance(shapely.Point(x, y)) > 2.0 + 1e-6]
+            assert min(r.distance(shapely.Point(x, y)) for r in rings) - 2.0 >= 1.1 - 1e-6
+    path = tmp_path / "six.dxf"
+    export_parts(ps, path, layout="assembled")
+    area = plain["rocker_guide_Q"].area - 2 * math.pi * 2.0 ** 2
+    assert ogr_layers(path)["rocker_guide_Q"][0] == pytest.approx(area, rel=1e-6)
+    with pytest.raises(GeometryError, match="has none"):
+        element_parts(example("fourbar_crank_rocker"), PartOptions(fasteners=4.0))
+    with pytest.raises(GeometryError, match="must fit its rim"):
+        element_parts(el, PartOptions(fasteners=9.0))

@@ -96,7 +96,8 @@ def linkage_style(element: Linkage, options: PartOptions) -> LinkageStyle:
             names.append((field, f"drawing.{key}"))
         else:
             names.append((field, name_of(f"drawing.{key}", vocab)))
-    return LinkageStyle(**sizes, frame=options.frame, tolerance=options.tolerance, names=tuple(names))
+    return LinkageStyle(**sizes, frame=options.frame, tolerance=options.tolerance, names=tuple(names),
+                        fasteners=options.fasteners)
 
 
 def element_parts(element, options: PartOptions = PartOptions(), plan: Plan | None = None) -> PartSet:
@@ -133,8 +134,13 @@ def _unkeyed_parts(element, options: PartOptions, plan: Plan | None) -> PartSet:
         return geneva_parts(element)
     if isinstance(element, Linkage):
         check_tolerance_option(options.tolerance, options.vocabulary)
-        return linkage_parts(element, plan if plan is not None else compile_plan(element),
-                             linkage_style(element, options), min_web_of(element, options))
+        ps = linkage_parts(element, plan if plan is not None else compile_plan(element),
+                           linkage_style(element, options), min_web_of(element, options))
+        if options.fasteners is not None and not any("option:fasteners" in p.keys for p in ps.parts):
+            raise GeometryError(f"{name_of('option:fasteners', options.vocabulary)} fastens a linkage's separate guide "
+                                f"plates to their links; linkage {element.id!r} has none (its guides are slots in "
+                                "their links)")
+        return ps
     if isinstance(element, RollingLever):
         depth_name = options.vocabulary.option("depth") or "the plate depth"
         return rolling_parts(synthesize(element, measures=False),
@@ -158,7 +164,7 @@ def applicable_options(element) -> frozenset[str]:
     if isinstance(element, Linkage):
         traced = any(len(element.links_of(j.id)) == 1 and element.links_of(j.id)[0] != element.ground
                      for j in element.joints)
-        return COMMON_OPTIONS | {"boss_radius", "bore_diameter", "link_width", "frame", "bore_key"} | \
+        return COMMON_OPTIONS | {"boss_radius", "bore_diameter", "link_width", "frame", "bore_key", "fasteners"} | \
             ({"tolerance"} if traced else set())
     if isinstance(element, RollingLever):
         return COMMON_OPTIONS | {"depth", "tolerance", "fasteners", "base_plate"}
