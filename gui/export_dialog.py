@@ -31,7 +31,7 @@ DIALOG_VOCABULARY = Vocabulary((
 ARC_CHOICES = (("bulge", "Bulge polylines: AutoCAD, LibreCAD, QCAD, FreeCAD, GDAL"),
                ("entities", "LINE and ARC: older CAM (dxf2gcode, some plasma and laser software)"))
 #: element type -> the plate fields that apply
-PLATE_FIELDS = {"linkage": ("boss_radius", "bore_diameter", "link_width", "frame", "bore_key"),
+PLATE_FIELDS = {"linkage": ("boss_radius", "bore_diameter", "link_width", "frame", "bore_key", "fasteners", "base_plate"),
                 "rolling_lever": ("depth", "fasteners", "base_plate"), "geneva": ("bore_key",)}
 #: the bore key choices: (PartOptions.bore_key, shown)
 KEY_CHOICES = ((None, "none"), ("keyway", "keyway (DIN 6885-1)"), ("flat", "flat (D-bore)"))

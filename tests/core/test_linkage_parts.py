@@ -257,3 +257,30 @@ def test_a_separate_guide_plate_is_fastened_to_its_link_through_matching_holes(t
         element_parts(example("fourbar_crank_rocker"), PartOptions(fasteners=4.0))
     with pytest.raises(GeometryError, match="must fit its rim"):
         element_parts(el, PartOptions(fasteners=9.0))
+
+
+def test_a_drilling_pattern_frame_can_sit_on_a_base_plate(tmp_path):
+    """Issue 23 item 5: with ``frame`` "drill" and ``base_plate`` the frame's pivots are carried
+    by a rectangular plate one boss radius around them (GDAL: its area is the rectangle's less the
+    bores); without "drill" the option is refused with what to choose."""
+    from mechsketch.core.analyses.parts import is_circle
+    from mechsketch.core.analyses.parts.build import PartOptions, element_parts
+    from ogr_readback import ogr_layers
+
+    el = example("sixbar_moving_guide")
+    drill = {p.name: p for p in element_parts(el, PartOptions(frame="drill")).parts}["ground"]
+    ps = element_parts(el, PartOptions(frame="drill", base_plate=True))
+    base = {p.name: p for p in ps.parts}["ground"]
+    centres = np.array([is_circle(h)[0] for h in base.holes])
+    assert drill.outer is None and np.array_equal(centres, [is_circle(h)[0] for h in drill.holes])
+    r = max(is_circle(h)[1] for h in base.holes)
+    x0, y0, x1, y1 = base.outer.points[:, 0].min(), base.outer.points[:, 1].min(), \
+        base.outer.points[:, 0].max(), base.outer.points[:, 1].max()
+    boss = (x1 - x0 - np.ptp(centres[:, 0]) - 2 * r) / 2
+    assert boss == pytest.approx((y1 - y0 - np.ptp(centres[:, 1]) - 2 * r) / 2, abs=1e-9) and boss > 0
+    path = tmp_path / "base.dxf"
+    export_parts(ps, path, layout="assembled")
+    holes = sum(math.pi * is_circle(h)[1] ** 2 for h in base.holes)
+    assert ogr_layers(path)["ground"][0] == pytest.approx((x1 - x0) * (y1 - y0) - holes, rel=1e-6)
+    with pytest.raises(GeometryError, match="choose PartOptions.frame drill"):
+        element_parts(el, PartOptions(base_plate=True))

@@ -97,7 +97,7 @@ def linkage_style(element: Linkage, options: PartOptions) -> LinkageStyle:
         else:
             names.append((field, name_of(f"drawing.{key}", vocab)))
     return LinkageStyle(**sizes, frame=options.frame, tolerance=options.tolerance, names=tuple(names),
-                        fasteners=options.fasteners)
+                        fasteners=options.fasteners, base_plate=options.base_plate)
 
 
 def element_parts(element, options: PartOptions = PartOptions(), plan: Plan | None = None) -> PartSet:
@@ -134,6 +134,10 @@ def _unkeyed_parts(element, options: PartOptions, plan: Plan | None) -> PartSet:
         return geneva_parts(element)
     if isinstance(element, Linkage):
         check_tolerance_option(options.tolerance, options.vocabulary)
+        if options.base_plate and options.frame != "drill":
+            raise GeometryError(f"{name_of('option:base_plate', options.vocabulary)} carries a linkage frame's drilling "
+                                f"pattern: choose {name_of('option:frame', options.vocabulary)} drill with it (the "
+                                "frame as a plate is already one)")
         ps = linkage_parts(element, plan if plan is not None else compile_plan(element),
                            linkage_style(element, options), min_web_of(element, options))
         if options.fasteners is not None and not any("option:fasteners" in p.keys for p in ps.parts):
@@ -164,7 +168,8 @@ def applicable_options(element) -> frozenset[str]:
     if isinstance(element, Linkage):
         traced = any(len(element.links_of(j.id)) == 1 and element.links_of(j.id)[0] != element.ground
                      for j in element.joints)
-        return COMMON_OPTIONS | {"boss_radius", "bore_diameter", "link_width", "frame", "bore_key", "fasteners"} | \
+        return COMMON_OPTIONS | {"boss_radius", "bore_diameter", "link_width", "frame", "bore_key", "fasteners",
+                                 "base_plate"} | \
             ({"tolerance"} if traced else set())
     if isinstance(element, RollingLever):
         return COMMON_OPTIONS | {"depth", "tolerance", "fasteners", "base_plate"}
