@@ -188,7 +188,7 @@ def test_cancelling_the_file_dialog_exports_nothing(shell):
 
 def test_the_dialogs_fasteners_base_plate_and_bore_key_reach_the_parts(qtbot):
     """Issue 23 item 5 in the dialog: the rolling lever's fasteners and base plate, a linkage's
-    bore key; each only where it applies (a linkage takes no fasteners)."""
+    bore key; each only where it applies (a rolling lever takes no bore key)."""
     dlg = ExportDialog("Export DXF", {"r": ("frame",), "l": ("crank",)}, "r", "dxf", {"r": 1.0, "l": 1.0},
                        kinds={"r": "rolling_lever", "l": "linkage"})
     qtbot.addWidget(dlg)
@@ -197,7 +197,10 @@ def test_the_dialogs_fasteners_base_plate_and_bore_key_reach_the_parts(qtbot):
     dlg.base_plate.setChecked(True)
     opts = dlg.request().options
     assert (opts.fasteners, opts.base_plate, opts.bore_key) == (5.0, True, None)
-    dlg.element.setCurrentText("l")
+    dlg.element.setCurrentText("l")       # a linkage takes fasteners (guide plates) and a base plate too
+    assert dlg.fasteners.isEnabled() and dlg.base_plate.isEnabled() and dlg.bore_key.isEnabled()
+    dlg.fasteners.setValue(0.0)
+    dlg.base_plate.setChecked(False)
     dlg.bore_key.setCurrentIndex(dlg.bore_key.findData("flat"))
     opts = dlg.request().options
     assert (opts.fasteners, opts.base_plate, opts.bore_key) == (None, False, "flat")
