@@ -42,7 +42,7 @@ from .execute import block_rng, run_tasks
 from .iso286 import Fit, fit
 from .keys import check_keys, variables
 from .linearised import Nominal, _normals, derivatives
-from .tol_kernels import reduce_angle, reduce_point
+from .tol_kernels import reduce_angle, reduce_point, scan_table
 from .variants import Variants
 
 #: builds per block: the unit of random numbers and of work handed to a worker (below 2¹⁶: a
@@ -174,7 +174,7 @@ def _task(ctx: _Context, block: int) -> dict:
         hist_up, hist_lo = np.zeros((N, BINS + 2), dtype=np.int64), np.zeros((N, BINS + 2), dtype=np.int64)
         ext = np.tile(np.array([np.inf, -np.inf, np.inf, -np.inf]), (N, 1))
         mom, fails, dev = np.zeros((N, 2)), np.zeros(N, dtype=np.int64), np.empty(n)
-        reduce_point(b.position(j), ok, a["pos"], a["normal"], A["valid"], a["S"], a["Q"], a["smax"], a["g"], plays,
+        reduce_point(b.position(j), ok, a["pos"], a["normal"], A["valid"], a["S"], a["T"], a["smax"], a["g"], plays,
                      a["lo"], a["width"], hist_up, hist_lo, ext, mom, fails, dev)
         # a block's counts fit 16 bits (BLOCK < 2¹⁶): a quarter of the bytes a worker sends back
         out["joints"][j] = {"dev": dev, "hist_up": hist_up.astype(np.uint16), "hist_lo": hist_lo.astype(np.uint16),
@@ -410,8 +410,6 @@ def _setup(linkage: Linkage, spec: Spec, samples: int, joints: list, links: list
     for j in joints:
         nom.normal[j] = _normals(nom.pos[j], sol.velocity(j) if sol.order >= 1 else None)
         S = nom.S[j]
-        Q = np.stack([(S[..., 0, :] ** 2).sum(-1), (S[..., 0, :] * S[..., 1, :]).sum(-1), (S[..., 1, :] ** 2).sum(-1)],
-                     -1) if S.size else np.zeros((0, samples, 3))
         smax = np.sqrt(np.maximum(np.linalg.eigvalsh(S @ np.swapaxes(S, -1, -2))[..., -1], 0.0)) if S.size else \
             np.zeros((0, samples))
         g = np.hypot(*np.einsum("pkab,ka->pkb", S, nom.normal[j]).transpose(2, 0, 1)) if S.size else np.zeros((0, samples))
@@ -421,7 +419,7 @@ def _setup(linkage: Linkage, spec: Spec, samples: int, joints: list, links: list
         size = float(np.nanmax(np.abs(nom.pos[j]))) + 1.0
         R = 8.0 * sig + 2.0 * gmax + 1e-9 * size
         arrays["joints"][j] = {"pos": np.ascontiguousarray(nom.pos[j]), "normal": np.ascontiguousarray(nom.normal[j]),
-                               "S": np.ascontiguousarray(S), "Q": np.ascontiguousarray(Q),
+                               "S": np.ascontiguousarray(S), "T": scan_table(np.ascontiguousarray(S)),
                                "smax": np.ascontiguousarray(smax), "g": np.ascontiguousarray(g),
                                "lo": -R, "width": 2.0 * R / BINS}
     for k in links:
