@@ -281,15 +281,15 @@ def test_a_drive_that_validates_always_exports(tmp_path_factory, z, a, frac):
     assert sheet.parts
 
 
-def _ring_web(part) -> float:
-    """The least distance between any two boundaries of a part (shapely, chords of 1e-6 mm
-    sagitta): for these parts (a disc, an annulus, a belt with two bores) its thinnest web."""
-    poly = part.polygon(1e-6)
+def _ring_web(part, sagitta: float = 1e-6) -> float:
+    """The least distance between any two boundaries of a part (shapely, chords of ``sagitta`` mm):
+    for these parts (a disc, an annulus, a belt with two bores) its thinnest web, to 2 sagittas."""
+    poly = part.polygon(sagitta)
     rings = [poly.exterior] + list(poly.interiors)
     return min(a.distance(b) for i, a in enumerate(rings) for b in rings[i + 1:])
 
 
-@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(z=st.integers(4, 12), a=st.floats(40.0, 300.0), rp_frac=st.floats(0.02, 0.12), web=st.floats(0.5, 3.0))
 def test_sizes_chosen_by_default_keep_ten_percent_over_the_minimum_web(z, a, rp_frac, web):
     """Issue 23 item 5: the crank bore, the pin and the crank arm's hub and boss that the drive
@@ -304,7 +304,7 @@ def test_sizes_chosen_by_default_keep_ten_percent_over_the_minimum_web(z, a, rp_
         return
     for p in ps.parts:
         if p.name != "wheel":           # the wheel's webs follow the user's sizes (checked as before)
-            assert _ring_web(p) >= 1.1 * web - 1e-6, (p.name, _ring_web(p), web)
+            assert _ring_web(p, 1e-4) >= 1.1 * web - 2e-4, (p.name, web)
 
 
 def test_the_z8_locking_disc_is_no_longer_made_at_its_minimum_web():
