@@ -38,9 +38,9 @@ TOPOLOGIES = (F.FOURBAR, F.SLIDER_CRANK, F.INVERTED, F.SIXBAR, F.WATT)
 #: what --topology takes: "sixbar" means both six-bars (Stephenson III and Watt II)
 CHOICES = (F.FOURBAR, F.SLIDER_CRANK, F.INVERTED, F.SIXBAR, "any")
 #: starts refined per topology
-STARTS = 40
+STARTS = 32
 #: samples of the transmission-angle penalty over the span
-PENALTY_SAMPLES = 72
+PENALTY_SAMPLES = 48
 #: Levenberg–Marquardt iterations of the refinement (the six-bar's 15 parameters converge slower)
 ITERATIONS = {F.SIXBAR: 120, F.WATT: 120}
 DEFAULT_ITERATIONS = 40
