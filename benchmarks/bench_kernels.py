@@ -146,6 +146,25 @@ def measure_main(Ns, budget: float) -> list[dict]:
     return rows
 
 
+#: issue 26, item 4: ours / hand at N = 360 and 3,600 (order 2), and ours ≤ pylinkage at 360
+TARGETS = {360: 1.2, 3600: 1.1}
+
+
+def verdicts(rows: list[dict]) -> list[str]:
+    """One line per order-2 row at a targeted N: ours, the floor, the ratio, the load, met or not."""
+    out = []
+    for r in rows:
+        if r["order"] != 2 or r["N"] not in TARGETS:
+            continue
+        o, h, p = r["ours"]["best"], r["hand"]["best"], r.get("pylinkage")
+        lim = TARGETS[r["N"]]
+        ok = o / h <= lim and (p is None or r["N"] != 360 or o <= p["best"])
+        py = "" if p is None else f", pylinkage {p['best']:.4f} µs/sample (ours / py {o / p['best']:.2f})"
+        out.append(f"target {r['case']} N = {r['N']:,}: ours {o:.4f} µs/sample, hand {h:.4f} (ours / hand "
+                   f"{o / h:.2f}, target ≤ {lim}){py}; load {r['load']} — {'met' if ok else 'MISSED'}")
+    return out
+
+
 def fmt_err(x: float) -> str:
     return "—" if x != x else f"{x:.1e}"
 
@@ -318,6 +337,7 @@ def main(argv=None) -> int:
           "errors against the 50-digit reference\n")
     print(HEADER)
     rows = measure_main(Ns, a.budget)
+    print("\n" + "\n".join(verdicts(rows)))
     print_split(split_kernels(Ns))
     fr = None
     if not a.no_fresh:

@@ -24,7 +24,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass
-from typing import Sequence
+from typing import Callable, Sequence
 
 import numpy as np
 from PySide6.QtCore import QObject, Qt, QTimer, Signal
@@ -135,7 +135,9 @@ class AnimationPlayer(QObject):
         self._timer.setObjectName("AnimationPlayer.timer")
         self._timer.setTimerType(Qt.TimerType.PreciseTimer)
         self._timer.setInterval(TICK_MS)
-        self._timer.timeout.connect(self._tick)
+        self._timer.timeout.connect(self.tick)
+        #: seconds, monotonic: what a tick measures the elapsed time with (tests give their own)
+        self.clock: Callable[[], float] = time.perf_counter
         self._speed = 1.0
         self._direction = 1
         self._dead = "reverse"
@@ -233,7 +235,7 @@ class AnimationPlayer(QObject):
         if not valid[(f + self._direction) % n] and valid[(f - self._direction) % n]:
             self.set_direction(-self._direction)
         self._acc = 0.0
-        self._last = time.perf_counter()
+        self._last = self.clock()
         self._timer.start()
         self.play_action.setChecked(True)
         self.play_action.setText("Pause")
@@ -296,10 +298,14 @@ class AnimationPlayer(QObject):
         return self.controller.cycle_period()
 
     # -- stepping ---------------------------------------------------------------------------------
-    def _tick(self) -> None:
-        now = time.perf_counter()
+    def tick(self) -> None:
+        """What the timer does every ``TICK_MS``: advance by the time :attr:`clock` says has
+        passed since the last tick (at most 0.25 s: a stalled event loop does not jump)."""
+        if not self.is_playing:
+            return
+        now = self.clock()
         dt, self._last = now - self._last, now
-        self.advance(min(dt, 0.25))
+        self.advance(min(max(dt, 0.0), 0.25))
 
     def advance(self, seconds: float) -> None:
         """Move by ``seconds`` of animation time at the current speed (what a tick does)."""

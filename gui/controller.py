@@ -23,13 +23,16 @@ from mechsketch.core.model.edits import Edit
 from mechsketch.core.model.linkage import Linkage
 from mechsketch.core.model.scene import Scene
 from mechsketch.core.solver.diagnostics import Diagnostics
-from mechsketch.core.workspace import Change, ElementResult, GenevaResult, LinkageResult, RollingResult, Workspace
+from mechsketch.core.workspace import (Change, ElementResult, GearResult, GenevaResult, LinkageResult, RollingResult,
+                                      Workspace)
 
 from .frames import map_frame
+from .qtsafe import qt_safe
 
 DEFAULT_SAMPLES = 360
 
 
+@qt_safe
 class EditCommand(QUndoCommand):
     """A QUndoCommand wrapping one reversible core edit."""
 
@@ -40,9 +43,11 @@ class EditCommand(QUndoCommand):
         self._inverse: Edit | None = None
 
     def redo(self) -> None:
+        self._controller.interrupt_preview()
         self._inverse = self._controller.workspace.apply(self._edit)
 
     def undo(self) -> None:
+        self._controller.interrupt_preview()
         if self._inverse is not None:
             self._edit = self._controller.workspace.apply(self._inverse)
 
@@ -57,6 +62,7 @@ class SceneController(QObject):
     frameChanged = Signal(int)         # current sample index of the animation / scrub bar
     pathChanged = Signal()             # file path or clean state changed (window title)
     message = Signal(str)              # a line for the status bar
+    previewInterrupted = Signal()      # an edit, undo or redo ended a drag's preview (the drag stops)
 
     def __init__(self, scene: Scene | None = None, parent: QObject | None = None) -> None:
         super().__init__(parent)
@@ -120,7 +126,7 @@ class SceneController(QObject):
     def element_result(self, element_id: str) -> GenevaResult | RollingResult | None:
         """The result of a Geneva drive or rolling lever (None for a linkage or an unknown id)."""
         res = self.any_result(element_id)
-        return res if isinstance(res, (GenevaResult, RollingResult)) else None
+        return res if isinstance(res, (GenevaResult, RollingResult, GearResult)) else None
 
     def element_results(self) -> dict[str, GenevaResult | RollingResult]:
         """Results of every Geneva drive and rolling lever, in scene order."""
@@ -144,6 +150,7 @@ class SceneController(QObject):
     def push(self, edit: Edit, text: str | None = None) -> bool:
         """Apply ``edit`` as one undo command; False (and a message) if the edit is refused."""
         label = text or getattr(edit, "label", "edit")
+        self.interrupt_preview()
         try:
             self.workspace.check(edit)  # dry run: refuse bad edits before they enter history
         except MechsketchError as exc:
@@ -151,6 +158,15 @@ class SceneController(QObject):
             return False
         self.undo_stack.push(EditCommand(self, edit, label))
         return True
+
+    def interrupt_preview(self) -> None:
+        """An edit, undo or redo lands while a drag previews (a shortcut pressed mid-drag): the
+        preview ends first, so the edit applies to the document and not to a preview of it, and
+        ``previewInterrupted`` tells the drag to stop. A drag's own release ends its preview
+        before it pushes, so this does nothing then."""
+        if self.workspace.previewing:
+            self.workspace.end_preview(notify=True)
+            self.previewInterrupted.emit()
 
     def begin_preview(self) -> None:
         """Start a live drag: later ``preview`` calls show edits without history."""

@@ -14,7 +14,9 @@ from typing import Protocol
 
 from PySide6.QtCore import QFileInfo, QMimeDatabase
 from PySide6.QtGui import QAbstractFileIconProvider, QIcon
-from PySide6.QtWidgets import QDialog, QFileDialog, QFileIconProvider, QMessageBox, QWidget
+from PySide6.QtWidgets import QDialog, QFileDialog, QFileIconProvider, QInputDialog, QMessageBox, QWidget
+
+from .qtsafe import qt_safe
 
 SCENE_FILTER = "mechsketch scenes (*.json);;All files (*)"
 
@@ -22,6 +24,7 @@ SCENE_FILTER = "mechsketch scenes (*.json);;All files (*)"
 SAVE, DISCARD, CANCEL = "save", "discard", "cancel"
 
 
+@qt_safe
 class SafeIconProvider(QFileIconProvider):
     """A file's icon and type name from its name and kind alone (a stat, never a read)."""
 
@@ -90,6 +93,9 @@ class DialogService(Protocol):
     def info(self, title: str, text: str) -> None:
         """Tell the user something (the About box)."""
 
+    def ask_number(self, title: str, text: str, value: float, unit: str = "") -> float | None:
+        """A positive number (shown with ``unit``), ``value`` offered; None if the user cancelled."""
+
     def export_request(self, title: str, choices: dict, default_id: str, fmt: str,
                        min_webs: dict | None = None):
         """The export options (an :class:`~mechsketch.gui.export_dialog.ExportRequest`) for one of
@@ -136,6 +142,11 @@ class QtDialogService:
 
     def info(self, title: str, text: str) -> None:
         QMessageBox.information(self.parent, title, text)
+
+    def ask_number(self, title: str, text: str, value: float, unit: str = "") -> float | None:
+        label = f"{text} ({unit})" if unit else text
+        number, ok = QInputDialog.getDouble(self.parent, title, label, value, 1e-9, 1e9, 6)
+        return number if ok else None
 
     def export_request(self, title: str, choices: dict, default_id: str, fmt: str,
                        min_webs: dict | None = None):

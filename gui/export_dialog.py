@@ -11,8 +11,12 @@ from dataclasses import dataclass, field
 from PySide6.QtWidgets import (QCheckBox, QComboBox, QDialog, QDialogButtonBox, QDoubleSpinBox, QFormLayout,
                                QLineEdit, QWidget)
 
-from mechsketch.core.analyses.parts import DEFAULT_MIN_WEB
+from mechsketch.core.analyses.parts import DEFAULT_MIN_WEB, Vocabulary
 from mechsketch.core.analyses.parts.build import DEFAULT_TOLERANCE, PartOptions
+
+#: how messages of an export started from this dialog name its options (its fields)
+DIALOG_VOCABULARY = Vocabulary((("min_web", "the dialog's Minimum web"), ("tolerance", "the dialog's Curve tolerance")),
+                               "the export dialog")
 
 
 @dataclass(frozen=True)
@@ -82,4 +86,5 @@ class ExportDialog(QDialog):
         names = tuple(n.strip() for n in self.parts.text().split(",") if n.strip()) or None
         return ExportRequest(self.element.currentText(), self.fmt, self.layout_box.currentText(), names,
                              self.split.isChecked(), self.arcs.currentText(),
-                             PartOptions(tolerance=self.tolerance.value(), min_web=self.min_web.value()))
+                             PartOptions(tolerance=self.tolerance.value(), min_web=self.min_web.value(),
+                                         vocabulary=DIALOG_VOCABULARY))

@@ -24,15 +24,18 @@ from PySide6.QtWidgets import QHBoxLayout, QLabel, QProgressBar, QToolButton, QW
 from mechsketch.core.analyses.parts import build as parts_build
 from mechsketch.core.errors import MechsketchError
 from mechsketch.core.io.export_parts import export_parts
+from mechsketch.core.model.gear_pair import GearPair
+from mechsketch.core.model.geared_geneva import GearedGeneva
 from mechsketch.core.model.geneva import Geneva
 from mechsketch.core.model.linkage import Linkage
 from mechsketch.core.model.rolling_lever import RollingLever
 
 from .export_dialog import ExportRequest
+from .qtsafe import qt_safe
 
 #: the tolerance of fitted curves (mm), as ``mechsketch export`` uses by default
 DEFAULT_TOLERANCE = parts_build.DEFAULT_TOLERANCE
-EXPORTABLE = (Geneva, RollingLever, Linkage)
+EXPORTABLE = (Geneva, RollingLever, Linkage, GearPair, GearedGeneva)
 
 
 class _Signals(QObject):
@@ -45,6 +48,7 @@ class _Signals(QObject):
     done = Signal()
 
 
+@qt_safe
 class ExportTask(QRunnable):
     """Export ``element``'s parts to ``path`` as ``request`` says (default: DXF, apart, all
     parts); see the module docstring for the two stages."""
@@ -82,7 +86,7 @@ class ExportTask(QRunnable):
                 return
             self.signals.progress.emit(f"checking and writing {Path(self.path).name}…")
             exp = export_parts(ps, self.path, req.fmt, req.layout, req.parts, req.split, req.arcs,
-                               parts_build.min_web_of(el, req.options))
+                               parts_build.min_web_of(el, req.options), req.options.vocabulary)
         except (MechsketchError, OSError, ValueError) as exc:
             self.signals.failed.emit(str(exc))
             return
@@ -168,5 +172,6 @@ class ExportStatus(QWidget):
 
 
 def exportable(element) -> bool:
-    """True for the element types the app exports (linkages, Geneva drives, rolling levers)."""
+    """True for the element types the app exports (linkages, Geneva drives, rolling levers, gear pairs
+    and smooth Geneva drives: every kind whose parts ``element_parts`` builds)."""
     return isinstance(element, EXPORTABLE)

@@ -19,7 +19,7 @@ from typing import Any, Callable
 
 from PySide6.QtCore import QByteArray, QObject, QSize, Qt, QTimer
 from PySide6.QtGui import QAction, QCloseEvent, QKeySequence
-from PySide6.QtWidgets import QDockWidget, QLabel, QMainWindow, QMenu, QVBoxLayout, QWidget
+from PySide6.QtWidgets import QApplication, QDockWidget, QLabel, QMainWindow, QMenu, QVBoxLayout, QWidget
 
 from mechsketch.core import ExportError
 
@@ -28,11 +28,18 @@ from .controller import SceneController
 from .dialogs import DialogService
 from .selection import ELEMENT
 from .file_ops import FileOps
+from .clipboard import ClipboardCommands
+from .drops import DropTarget
 from .help.actions import HelpCommands
+from .underlays import UnderlayCommands
+from .design_docks import DesignDocks
 from . import units
-from .preferences import Preferences, apply_preferences, load_preferences, part_options, save_preferences
+from .preferences import (Preferences, apply_preferences, load_preferences, open_preferences_dialog, part_options,
+                          store_preferences)
 from .panels.diagnostics import DiagnosticsPanel
 from .panels.properties import PropertiesPanel
+from .input_policy import InputPolicy
+from .qtsafe import qt_safe
 
 
 #: the tool buttons' labels on the toolbar (by action name; tools not listed keep their title)
@@ -60,7 +67,7 @@ LAYOUT_VERSION = 1
 #: so that the first layout (and the canvas's first zoom to fit) is the one the panel gets
 #: (tests/gui/test_startup_imports.py checks them against the real panel)
 PLOTS_SIZE_HINT = (604, 511)
-PLOTS_MINIMUM_SIZE_HINT = (167, 99)
+PLOTS_MINIMUM_SIZE_HINT = (218, 99)
 
 
 @dataclass
@@ -90,6 +97,7 @@ class CanvasParts:
 Components = Callable[[SceneController, "MainWindow"], CanvasParts]
 
 
+@qt_safe
 class MainWindow(QMainWindow):
     """The app's window. ``actions`` maps names ("open", "save", "undo", "example:NAME", ...) to
     the QActions, which tests trigger as a user would."""
@@ -123,6 +131,7 @@ class MainWindow(QMainWindow):
             "diagnostics": self._dock("Diagnostics", self.diagnostics, Qt.DockWidgetArea.LeftDockWidgetArea),
             "plots": self._dock("Plots", self._make_plots, Qt.DockWidgetArea.RightDockWidgetArea),
         }
+        self.design_docks = DesignDocks(self, self.docks)   # Study and Design docks (issues 21, 22, 25), by the plots
         self.layout_restored = self.restore_layout()
         self._docks_sized = self.layout_restored
 
@@ -143,6 +152,12 @@ class MainWindow(QMainWindow):
         apply_preferences(self.preferences, self, autosave=False)   # the app sets the interval it starts with
 
         # -- wiring -------------------------------------------------------------------------
+        self.drops = DropTarget(self)   # scene files open, drawings and pictures become underlays
+        # keyboard and wheel habits (issue 24, items 1-2): Enter in a field gives the keys back to
+        # the canvas; shortcuts beat an unchanged field; the wheel does not edit unfocused boxes
+        self.properties.editingDone.connect(self.canvas.setFocus)
+        self.input_policy = InputPolicy(self)
+        QApplication.instance().installEventFilter(self.input_policy)
         controller.message.connect(self.show_message)
         controller.solveFailed.connect(self._on_solve_failed)
         controller.pathChanged.connect(self.update_title)
@@ -166,7 +181,7 @@ class MainWindow(QMainWindow):
     def _make_plots(self) -> QWidget:
         from .panels.plots import PlotsPanel
 
-        plots = PlotsPanel(self.controller)
+        plots = PlotsPanel(self.controller, settings=self.file_ops.settings)   # remembers the chosen plots
         plots.add_header_actions([self.actions["export_png"], self.actions["export_csv"]])
         return plots
 
@@ -239,6 +254,11 @@ class MainWindow(QMainWindow):
         keys = [QKeySequence("Ctrl+,")] + [k for k in QKeySequence.keyBindings(K.Preferences)
                                            if k.toString() != "Ctrl+,"]
         prefs.setShortcuts(keys)
+        # -- clipboard, underlays (issue 24 item 10, issue 22 item 6): Ctrl+C/V/D, Import Underlay
+        self.clipboard_commands = ClipboardCommands(self)
+        self.underlay_commands = UnderlayCommands(self, self.dialogs)
+        self.actions.update(self.clipboard_commands.actions)
+        self.actions.update(self.underlay_commands.actions)
         # -- help (issue 24 item 8): Manual (F1, context help), Getting Started, Shortcuts
         self.help = HelpCommands(self)
         self.actions.update(self.help.actions)
@@ -252,16 +272,21 @@ class MainWindow(QMainWindow):
         file_menu = bar.addMenu("&File")
         file_menu.addActions([a["new"], a["open"]])
         self.recent_menu = QMenu("Open &Recent", self)
+        self.recent_menu.setToolTipsVisible(True)   # each entry's full path on hover
         file_menu.addMenu(self.recent_menu)
         file_menu.addActions([a["save"], a["save_as"]])
         file_menu.addSeparator()
         file_menu.addActions([a["export_dxf"], a["export_svg"], a["export_png"], a["export_csv"]])
+        file_menu.addSeparator()
+        file_menu.addAction(a["import_underlay"])
         self._add_extra(file_menu, "file")
         file_menu.addSeparator()
         file_menu.addAction(a["quit"])
         self._fill_recent()
         edit = bar.addMenu("&Edit")
         edit.addActions([a["undo"], a["redo"]])
+        edit.addSeparator()
+        edit.addActions([a["copy"], a["paste"], a["duplicate"]])
         if "delete" in a:
             edit.addSeparator()
             edit.addAction(a["delete"])
@@ -269,6 +294,7 @@ class MainWindow(QMainWindow):
         edit.addAction(a["preferences"])
         view = bar.addMenu("&View")
         view.addActions(self.parts.view_actions)
+        view.addMenu(self.underlay_commands.menu(self))
         self._add_extra(view, "view")
         if self.parts.animation_actions:
             animation = view.addMenu("&Animation")
@@ -322,6 +348,7 @@ class MainWindow(QMainWindow):
         for k, path in enumerate(recent):
             action = self.recent_menu.addAction(f"&{k + 1} {Path(path).name}")
             action.setStatusTip(path)
+            action.setToolTip(path)
             action.triggered.connect(lambda _c=False, p=path: self.file_ops.open_recent(p))
         if recent:
             self.recent_menu.addSeparator()
@@ -420,7 +447,7 @@ class MainWindow(QMainWindow):
         scene = self.controller.scene
         elements = [e for e in scene.elements if exportable(e)]
         if not elements:
-            self.show_message("nothing to export: draw a linkage, a Geneva drive or a rolling lever first")
+            self.show_message("nothing to export: draw a linkage, a Geneva drive, a rolling lever or a gear pair first")
             return False
         target = self.export_target() or elements[0]
         choices = {e.id: part_names(e) for e in elements}
@@ -450,32 +477,14 @@ class MainWindow(QMainWindow):
         self.show_message(message)
         self.dialogs.error("Export DXF", f"{message}\n\nThe scene is not affected.")
 
-    # -- preferences -------------------------------------------------------------------------
+    # -- preferences (gui/preferences.py) --------------------------------------------------------
     def open_preferences(self) -> None:
         """Edit › Preferences: the dialog (window-modal, not blocking); OK stores and applies."""
-        from .preferences import PreferencesDialog
-
-        if self.preferences_dialog is not None and self.preferences_dialog.isVisible():
-            self.preferences_dialog.raise_()
-            return
-        dlg = PreferencesDialog(self.preferences, self)
-        dlg.accepted.connect(lambda: self.set_preferences(dlg.value()))
-        self.preferences_dialog = dlg
-        dlg.open()
+        open_preferences_dialog(self)
 
     def set_preferences(self, prefs: Preferences) -> bool:
-        """Store ``prefs`` in the settings file and apply them; False (with the reason) if a value
-        is out of range."""
-        problems = prefs.problems()
-        if problems:
-            self.dialogs.error("Preferences", "Not saved: " + "; ".join(problems))
-            return False
-        save_preferences(self.file_ops.settings, prefs)
-        apply_preferences(prefs, self)
-        self.preferences = prefs
-        self.show_message(f"preferences saved: lengths in {prefs.length_unit}, angles in "
-                          f"{'°' if prefs.angle_unit == 'deg' else 'rad'}, speeds in {prefs.speed_unit}")
-        return True
+        """Store ``prefs`` in the settings file and apply them (False, with the reason, if not)."""
+        return store_preferences(self, prefs)
 
     def about(self) -> None:
         from importlib.metadata import PackageNotFoundError, version
@@ -527,12 +536,14 @@ class MainWindow(QMainWindow):
         if self._exporter is not None:
             self._exporter.cancel()
             self._exporter.wait()
+        self.design_docks.shutdown()
         if self.parts.stop is not None:
             self.parts.stop()
         self.autosave.clean_exit()
         event.accept()
 
 
+@qt_safe
 class _FirstPaint(QWidget):
     """An empty widget that calls ``callback`` (through the event loop) once it has been painted;
     it asks for the size of the widget it stands in for."""
@@ -555,6 +566,7 @@ class _FirstPaint(QWidget):
             QTimer.singleShot(0, self, callback)   # dropped if this widget is gone by then
 
 
+@qt_safe
 class LazyDock(QDockWidget):
     """A dock whose content ``factory()`` makes after the window's first frame: the dock first
     holds an empty widget; when that has been painted (the first frame is on screen), the content

@@ -31,6 +31,7 @@ from mechsketch.core.model.geneva import Material
 
 from . import units
 from .units import Units
+from .qtsafe import qt_safe
 
 #: materials a new Geneva drive's roller and wheel may be made of: name -> (E MPa, Poisson's ratio)
 MATERIALS: dict[str, tuple[float, float]] = {
@@ -167,6 +168,34 @@ def part_options(prefs: Preferences, options):
     return replace(options, **{k: v for k, v in sizes.items() if v > 0 and getattr(options, k) is None})
 
 
+def open_preferences_dialog(window: Any) -> None:
+    """Show the dialog over ``window`` (window-modal, not blocking); OK stores and applies."""
+    dlg = getattr(window, "preferences_dialog", None)
+    if dlg is not None and dlg.isVisible():
+        dlg.raise_()
+        return
+    dlg = PreferencesDialog(window.preferences, window)
+    dlg.accepted.connect(lambda: window.set_preferences(dlg.value()))
+    window.preferences_dialog = dlg
+    dlg.open()
+
+
+def store_preferences(window: Any, prefs: Preferences) -> bool:
+    """Save ``prefs`` in ``window``'s settings file and apply them; False (the reason shown) if a
+    value is out of range."""
+    problems = prefs.problems()
+    if problems:
+        window.dialogs.error("Preferences", "Not saved: " + "; ".join(problems))
+        return False
+    save_preferences(window.file_ops.settings, prefs)
+    apply_preferences(prefs, window)
+    window.preferences = prefs
+    window.show_message(f"preferences saved: lengths in {prefs.length_unit}, angles in "
+                        f"{'°' if prefs.angle_unit == 'deg' else 'rad'}, speeds in {prefs.speed_unit}")
+    return True
+
+
+@qt_safe
 class _NoWheelUnlessFocused(QObject):
     """Spin boxes and combo boxes of the dialog change on the wheel only when they have focus."""
 

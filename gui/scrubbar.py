@@ -22,6 +22,7 @@ from mechsketch.core.model.drivers import input_text
 
 from .animation import SPEEDS, AnimationPlayer
 from .frames import dead_samples, walk_to
+from .qtsafe import qt_safe
 
 GROOVE = QColor("#e3e6eb")
 GROOVE_EDGE = QColor("#b8bec8")
@@ -31,6 +32,7 @@ HANDLE = QColor("#1e88e5")
 MARGIN = 8.0
 
 
+@qt_safe
 class ScrubTrack(QWidget):
     """The painted track (part of :class:`ScrubBar`)."""
 

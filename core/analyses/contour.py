@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -64,7 +65,12 @@ class Contour:
         return len(self.bulges)
 
     def segments(self) -> Segments:
-        """Lines and arcs of the contour (see :class:`Segments`)."""
+        """Lines and arcs of the contour (see :class:`Segments`); computed once per contour (a
+        contour is a value: its arrays are never changed in place)."""
+        return self._segments
+
+    @cached_property
+    def _segments(self) -> Segments:
         p0 = np.asarray(self.points, float)
         p1 = np.roll(p0, -1, axis=0)
         b = np.asarray(self.bulges, float)
@@ -82,6 +88,10 @@ class Contour:
 
     def area(self) -> float:
         """Signed exact area (mm², positive for a counter-clockwise contour)."""
+        return self._area
+
+    @cached_property
+    def _area(self) -> float:
         sg = self.segments()
         shoelace = 0.5 * np.sum(sg.p0[:, 0] * sg.p1[:, 1] - sg.p1[:, 0] * sg.p0[:, 1])
         r2 = np.where(sg.is_arc, sg.radius, 0.0) ** 2

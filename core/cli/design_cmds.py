@@ -17,6 +17,10 @@ DESIGN_KINDS: dict[str, str] = {
     "path": "mechsketch.core.cli.design_path",
     "motion": "mechsketch.core.cli.design_motion",
     "function": "mechsketch.core.cli.design_function",
+    # from requirements (issue 25): Geneva drives, rolling levers with a slider law, gear pitch curves
+    "geneva": "mechsketch.core.cli.design_geneva",
+    "rolling": "mechsketch.core.cli.design_rolling",
+    "gears": "mechsketch.core.cli.design_gears",
 }
 
 

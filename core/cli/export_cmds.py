@@ -1,6 +1,6 @@
 """``mechsketch export``: the cut-ready parts of any element as DXF or SVG; and the drawing check
-that ``mechsketch validate`` runs (the same parts, the same check, so a scene that validates
-exports).
+that ``mechsketch validate`` runs as its manufacturability warnings (the same parts, the same
+check: a scene whose validation has no warning exports; ``validate --strict`` makes them errors).
 
     mechsketch export SCENE [--element ID] (--dxf PATH | --svg PATH) [--layout assembled|apart]
                       [--parts P,...] [--split] [--arcs bulge|entities] [--tolerance MM]
@@ -20,6 +20,7 @@ from ..errors import MechsketchError, Problem, RequestError, StructureError
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..analyses.parts.build import PartOptions
+    from ..analyses.parts.keys import Vocabulary
     from ..workspace import Workspace
 
 #: the option choices and default of ``export`` as analyses.parts (LAYOUTS), io.dxf_parts
@@ -28,6 +29,25 @@ if TYPE_CHECKING:  # pragma: no cover
 LAYOUTS = ("assembled", "apart")
 ARC_STYLES = ("bulge", "entities")
 DEFAULT_TOLERANCE = 0.001
+#: export option (PartOptions field) -> its flag here: how messages of ``export`` name them
+EXPORT_FLAGS = (("boss_radius", "--boss-radius"), ("bore_diameter", "--bore-diameter"),
+                ("link_width", "--link-width"), ("min_web", "--min-web"), ("tolerance", "--tolerance"),
+                ("depth", "--depth"), ("frame", "--frame"))
+
+
+def export_vocabulary() -> Vocabulary:
+    """How ``mechsketch export`` names what to change: its flags, and the scene's keys."""
+    from ..analyses.parts.keys import Vocabulary
+
+    return Vocabulary(EXPORT_FLAGS, "mechsketch export")
+
+
+def validate_vocabulary() -> Vocabulary:
+    """How ``mechsketch validate`` names what to change: the scene's keys only (it has no part
+    options); export options in words."""
+    from ..analyses.parts.keys import Vocabulary
+
+    return Vocabulary((), "mechsketch validate")
 
 
 def add_export_parser(sub) -> argparse.ArgumentParser:
@@ -63,7 +83,7 @@ def options_of(args: argparse.Namespace) -> PartOptions:
 
     return PartOptions(tolerance=args.tolerance, min_web=args.min_web, boss_radius=args.boss_radius,
                        bore_diameter=args.bore_diameter, link_width=args.link_width, frame=args.frame,
-                       depth=args.depth)
+                       depth=args.depth, vocabulary=export_vocabulary())
 
 
 def _plan(ws: Workspace, el):
@@ -90,27 +110,32 @@ def run_export(ws: Workspace, args: argparse.Namespace) -> str:
     names = [n.strip() for n in args.parts.split(",") if n.strip()] if args.parts else None
     ps = element_parts(el, opts, _plan(ws, el))
     fmt, path = ("dxf", args.dxf) if args.dxf is not None else ("svg", args.svg)
-    return export_parts(ps, path, fmt, args.layout, names, args.split, args.arcs, min_web_of(el, opts)).report
+    return export_parts(ps, path, fmt, args.layout, names, args.split, args.arcs, min_web_of(el, opts),
+                        opts.vocabulary).report
 
 
-def drawing_problems(ws: Workspace) -> list[Problem]:
-    """Elements that load but whose parts cannot be cut with the default options (the check the
-    export runs): a drive that validates always exports."""
-    from ..analyses.parts import require_checked
+def drawing_warnings(ws: Workspace) -> list[Problem]:
+    """Manufacturability: for each element that can be analysed, every reason its parts cannot be
+    cut with the sizes in force (the drawing block, else the defaults), one per failing part,
+    named in the scene's keys. ``validate`` lists them as warnings (``--strict``: errors); the
+    export refuses the same parts."""
+    from ..analyses.parts import check_parts, failures
     from ..analyses.parts.build import PartOptions, element_parts, min_web_of
     from ..model.kinds import element_kind
 
     out = []
-    opts = PartOptions()
+    opts = PartOptions(vocabulary=validate_vocabulary())
     for k, el in enumerate(ws.scene.elements):
         kind = element_kind(el.type)
         if kind is not None and not kind.parts:
             continue   # an underlay: a reference, nothing is cut from it
         try:
             ps = element_parts(el, opts, _plan(ws, el))
-            require_checked(ps, min_web_of(el, opts))
+            min_web = min_web_of(el, opts)
+            lines = failures(ps, check_parts(ps.parts, min_web), opts.vocabulary)
         except StructureError:
             continue  # reported by the structure check
         except MechsketchError as exc:
-            out.append(Problem(f"$.elements[{k}]", f"cannot be drawn: {exc}", el.id))
+            lines = [f"its parts cannot be built: {exc}"]
+        out += [Problem(f"$.elements[{k}]", line, el.id) for line in lines]
     return out

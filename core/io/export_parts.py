@@ -11,7 +11,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Sequence
 
-from ..analyses.parts import DEFAULT_MIN_WEB, PartCheck, PartSet, Sheet, lay_out, report_lines, require_checked
+from ..analyses.parts import (API, DEFAULT_MIN_WEB, PartCheck, PartSet, Sheet, Vocabulary, lay_out, report_lines,
+                              require_checked)
 from ..errors import ExportError
 from .dxf_parts import ARC_STYLES, write_dxf
 from .svg_parts import write_svg
@@ -37,11 +38,12 @@ def split_path(path: str | os.PathLike, name: str) -> Path:
 
 def export_parts(ps: PartSet, path: str | os.PathLike, fmt: str = "dxf", layout: str = "apart",
                  names: Sequence[str] | None = None, split: bool = False, arcs: str = "bulge",
-                 min_web: float = DEFAULT_MIN_WEB) -> PartsExport:
+                 min_web: float = DEFAULT_MIN_WEB, vocab: Vocabulary = API) -> PartsExport:
     """Check the parts of ``ps`` (only ``names`` if given), lay them out and write them.
 
     ``fmt`` "dxf" | "svg"; ``layout`` "apart" | "assembled"; ``split``: one file per part group
-    (``stem_NAME.ext``); ``arcs`` (DXF) "bulge" | "entities"; ``min_web`` mm. Raises
+    (``stem_NAME.ext``); ``arcs`` (DXF) "bulge" | "entities"; ``min_web`` mm; ``vocab``: how
+    messages name what to change (the front end's options). Raises
     :class:`~mechsketch.core.errors.GeometryError` (a check failed, with the key to change) or
     :class:`ExportError` (bad option, unwritable path); nothing is written unless all parts pass.
     """
@@ -50,7 +52,7 @@ def export_parts(ps: PartSet, path: str | os.PathLike, fmt: str = "dxf", layout:
     if arcs not in ARC_STYLES:
         raise ExportError(f"--arcs must be one of {', '.join(ARC_STYLES)}; got {arcs!r}")
     ps = ps.select(names)
-    checks = require_checked(ps, min_web)
+    checks = require_checked(ps, min_web, vocab)
     if split:
         groups: dict[str, list[str]] = {}
         for p in ps.parts:

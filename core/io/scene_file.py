@@ -338,8 +338,26 @@ def load_scene(path: str | os.PathLike) -> Scene:
     raise SceneFormatError(problems, str(path))
 
 
+def _text_too_large(text: str) -> Problem | None:
+    """The problem of a scene text over :data:`MAX_FILE_BYTES` in UTF-8 (the files' limit), or
+    None. A text of more characters than that is refused without encoding it; one that might be
+    over (more than a quarter of the limit: a character is at most 4 bytes) is measured."""
+    limit = MAX_FILE_BYTES
+    size = len(text)
+    if limit // 4 < size <= limit:
+        size = len(text.encode("utf-8", "surrogatepass"))
+    if size <= limit:
+        return None
+    return Problem("$", f"scene text is {size / 1e6:.1f} MB; scenes are limited to {limit / 1e6:.0f} MB "
+                        "(as scene files): not read")
+
+
 def loads_scene(text: str, source: str = "scene") -> Scene:
-    """Parse scene JSON text (see :func:`load_scene`)."""
+    """Parse scene JSON text (see :func:`load_scene`); text over :data:`MAX_FILE_BYTES` in UTF-8
+    is refused before it is parsed, as a file would be."""
+    big = _text_too_large(text)
+    if big is not None:
+        raise SceneFormatError([big], source)
     doc, problems = _parse_json(text)
     if problems:
         raise SceneFormatError(problems, source)

@@ -206,6 +206,7 @@ def placed(underlay: Underlay, mm_per_unit: float, centre: tuple[float, float] |
         scale = mm_per_unit or 1.0
     pl = Placement(scale, 0.0, (0.0, 0.0))
     if centre is not None:
-        c = pl.to_world(underlay.source_corners()).mean(axis=0)
-        pl = pl.moved(centre[0] - float(c[0]), centre[1] - float(c[1]))
+        corners = pl.to_world(underlay.source_corners())
+        cx, cy = sum(x for x, _ in corners) / 4, sum(y for _, y in corners) / 4
+        pl = pl.moved(centre[0] - cx, centre[1] - cy)
     return underlay.with_placement(pl)

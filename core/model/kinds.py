@@ -11,7 +11,7 @@ from dataclasses import dataclass
 from typing import Any, Callable
 
 from ..errors import Problem
-from . import geneva, linkage_parse, rolling_lever, underlay
+from . import gear_pair, geared_geneva, geneva, linkage_parse, rolling_lever, underlay
 from .linkage import Linkage
 
 
@@ -37,6 +37,10 @@ ELEMENT_KINDS: dict[str, ElementKind] = {
                                  rolling_lever.RollingLever.to_dict),
     # schema_version 3: a drawing or picture under the canvas (issue 22 item 6)
     "underlay": ElementKind("underlay", underlay.SCHEMA, underlay.parse, underlay.Underlay.to_dict, parts=False),
+    # schema_version 3: non-circular gears and a Geneva driven through them (issue 25 items 3-4)
+    "gear_pair": ElementKind("gear_pair", gear_pair.SCHEMA, gear_pair.parse, gear_pair.GearPair.to_dict),
+    "geared_geneva": ElementKind("geared_geneva", geared_geneva.SCHEMA, geared_geneva.parse,
+                                 geared_geneva.GearedGeneva.to_dict),
 }
 
 

@@ -10,6 +10,7 @@ from dataclasses import dataclass, field, replace
 from enum import Enum
 
 from ..errors import UnknownIdError
+from .drawing import LinkageDrawing
 from .drivers import LINEAR_KINDS, DriverKind, MotionLaw, input_unit
 from .loads import JointFriction, LinkMass, Load
 
@@ -119,6 +120,8 @@ class Linkage:
     (one :class:`LinkMass` per link that has one), ``gravity`` (gx, gy) m/s² or None, ``loads``
     (forces, torques, springs, dampers) and ``friction`` (friction-circle radii of revolute
     joints). A file without them loads as before; they never change the kinematics.
+    ``drawing`` (optional, scene format 3): the plate sizes of its cut-ready parts
+    (:class:`~.drawing.LinkageDrawing`); it never changes the kinematics either.
     """
 
     id: str
@@ -131,6 +134,7 @@ class Linkage:
     gravity: XYTuple | None = None
     loads: tuple[Load, ...] = ()
     friction: tuple[JointFriction, ...] = ()
+    drawing: LinkageDrawing | None = None
     type: str = field(default="linkage", init=False)
 
     # -- look-ups -------------------------------------------------------------------------
@@ -300,4 +304,6 @@ class Linkage:
             out["gravity"] = [self.gravity[0], self.gravity[1]]
         if self.loads:
             out["loads"] = [ld.to_dict() for ld in self.loads]
+        if self.drawing is not None and not self.drawing.is_empty:
+            out["drawing"] = self.drawing.to_dict()
         return out

@@ -10,6 +10,7 @@ from collections import Counter
 from typing import Any
 
 from ..errors import Problem
+from .drawing import parse_linkage_drawing
 from .drivers_parse import DRAFT_RPM, parse_driver  # noqa: F401  (DRAFT_RPM re-exported)
 from .linkage import Joint, JointKind, Link, Linkage
 from .loads_parse import parse_dynamics
@@ -105,10 +106,11 @@ def parse(data: dict[str, Any], path: str) -> tuple[Linkage | None, list[Problem
 
     masses, gravity, loads, friction = parse_dynamics(
         data, bad, [lk.id for lk in links], ground)
+    drawing = parse_linkage_drawing(data.get("drawing"), lambda where, msg: bad(where, msg, eid))
 
     if problems:
         return None, problems
     linkage = Linkage(eid, tuple(joints), tuple(links), ground,
                       driver, int(data.get("samples", 360)),
-                      masses, gravity, loads, friction)
+                      masses, gravity, loads, friction, drawing)
     return linkage, problems

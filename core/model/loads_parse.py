@@ -2,7 +2,10 @@
 
 Types and ranges (numbers, minimum 0, two coordinates) are checked first by
 ``linkage.schema.json``; this module checks what a schema cannot: which kind each load is, that
-the links and joints it names exist, that values are finite, and that a load does something
+the links and joints it names exist, that values are finite, that a nonzero value is not below
+the physical floor of its unit (``limits.SMALLEST``: 1e-12 N, N·m, kg, kg·m², m/s², N/mm, N·s/mm;
+1e-6 mm for a friction radius; a force's and gravity's magnitude; subnormals included — such a
+value is refused rather than read as 0, issue 20 item 12), and that a load does something
 (not on the ground link, a spring not with both ends on one link). Each problem names its JSON
 path (``$.elements[0].loads[2].link``) and what to change.
 """
@@ -12,6 +15,7 @@ import math
 from collections import Counter
 from typing import Any, Callable
 
+from .limits import tiny_problem
 from .loads import (KIND_KEYS, Damper, End, JointFriction, LinkMass, Load, PointForce, Spring, Torque,
                     next_load_id)
 
@@ -20,6 +24,14 @@ Bad = Callable[[str, str, "str | None"], None]
 
 def _finite(values) -> bool:
     return all(math.isfinite(float(v)) for v in values)
+
+
+def _tiny(bad: Bad, where: str, value: float, unit: str, id: str | None) -> bool:
+    """Report a nonzero value below the physical floor of its unit (True if reported)."""
+    msg = tiny_problem(value, unit)
+    if msg is not None:
+        bad(where, msg, id)
+    return msg is not None
 
 
 def parse_dynamics(data: dict[str, Any], bad: Bad, link_ids: list[str], ground: str
@@ -47,6 +59,9 @@ def parse_dynamics(data: dict[str, Any], bad: Bad, link_ids: list[str], ground: 
         if inertia is not None and not math.isfinite(float(inertia)):
             bad(f"links[{k}].inertia", f"must be a finite number of kg·m², got {inertia}", ld["id"])
             continue
+        if _tiny(bad, f"links[{k}].mass", mass, "kg", ld["id"]) or (
+                inertia is not None and _tiny(bad, f"links[{k}].inertia", float(inertia), "kg·m²", ld["id"])):
+            continue
         masses.append(LinkMass(ld["id"], mass, None if com is None else (float(com[0]), float(com[1])),
                                None if inertia is None else float(inertia)))
 
@@ -60,6 +75,8 @@ def parse_dynamics(data: dict[str, Any], bad: Bad, link_ids: list[str], ground: 
                 "(prismatic joints are frictionless): remove it", jd["id"])
         elif not math.isfinite(radius):
             bad(f"joints[{k}].friction_radius", f"must be a finite number of mm, got {radius}", jd["id"])
+        elif _tiny(bad, f"joints[{k}].friction_radius", radius, "mm", jd["id"]):
+            continue
         elif radius > 0:
             friction.append(JointFriction(jd["id"], radius))
 
@@ -67,6 +84,8 @@ def parse_dynamics(data: dict[str, Any], bad: Bad, link_ids: list[str], ground: 
     if gravity is not None:
         if not _finite(gravity):
             bad("gravity", f"must be finite numbers (m/s²), got {gravity}", None)
+            gravity = None
+        elif _tiny(bad, "gravity", math.hypot(float(gravity[0]), float(gravity[1])), "m/s²", None):
             gravity = None
         else:
             gravity = (float(gravity[0]), float(gravity[1]))
@@ -121,6 +140,8 @@ def _load(ld: dict, where: str, bad: Bad, links: set[str], ground: str, taken: s
             if not math.isfinite(float(ld["torque"])):
                 bad(f"{where}.torque", f"must be a finite number of N·m, got {ld['torque']}", lid)
                 return None
+            if _tiny(bad, f"{where}.torque", float(ld["torque"]), "N·m", lid):
+                return None
             return Torque(lid, link, float(ld["torque"]))
         if "at" not in ld:
             bad(where, f"the force {lid!r} needs 'at' (the drawn point of {link!r} it acts at, mm)", lid)
@@ -129,6 +150,8 @@ def _load(ld: dict, where: str, bad: Bad, links: set[str], ground: str, taken: s
             if not _finite(ld[key]):
                 bad(f"{where}.{key}", f"must be finite numbers ({unit}), got {ld[key]}", lid)
                 return None
+        if _tiny(bad, f"{where}.force", math.hypot(float(ld["force"][0]), float(ld["force"][1])), "N", lid):
+            return None
         return PointForce(lid, link, (float(ld["at"][0]), float(ld["at"][1])),
                           (float(ld["force"][0]), float(ld["force"][1])))
     if "ends" not in ld:
@@ -152,9 +175,13 @@ def _load(ld: dict, where: str, bad: Bad, links: set[str], ground: str, taken: s
         if not math.isfinite(k) or (free is not None and not math.isfinite(float(free))):
             bad(where, f"spring {lid!r}: stiffness and free length must be finite numbers", lid)
             return None
+        if _tiny(bad, f"{where}.stiffness", k, "N/mm", lid):
+            return None
         return Spring(lid, (ends[0], ends[1]), k, None if free is None else float(free))
     c = float(ld["damping"])
     if not math.isfinite(c):
         bad(f"{where}.damping", f"must be a finite number of N·s/mm, got {ld['damping']}", lid)
+        return None
+    if _tiny(bad, f"{where}.damping", c, "N·s/mm", lid):
         return None
     return Damper(lid, (ends[0], ends[1]), c)

@@ -11,7 +11,8 @@ The profiles themselves are derived (synthesised), never stored: see
 the chosen contact lies on the ray from the pivot and is neither the pin nor the pivot itself (both
 make the lever a mere pivoting body, see :func:`coincidence_tolerance`), the normal to the slider
 axis through the contact reaches the slider circle, the stroke is not empty, the drive points are
-distinct.
+distinct; with a slider law (instead of the slider circle), that the law covers the stroke and the
+drawn pose lies within it.
 """
 from __future__ import annotations
 
@@ -60,6 +61,31 @@ class Stroke:
         return {"from": self.start, "to": self.end}
 
 
+#: the rise laws a slider law may name (mechsketch.core.solver.motion_law.profile)
+SLIDER_LAWS = ("cycloidal", "harmonic", "modified_trapezoid", "constant")
+
+
+@dataclass(frozen=True)
+class SliderLaw:
+    """A prescribed slider displacement S5(θ) over the stroke (mm), instead of a slider circle.
+
+    Either ``table`` ((θ rad, S5 mm), …; θ strictly monotone, covering the stroke; interpolated by
+    a quintic spline, cubic below 6 points) or a rise law ``kind`` (``cycloidal``, ``harmonic``,
+    ``modified_trapezoid``, ``constant``) taking S5 from 0 at ``stroke.from`` to ``travel`` at
+    ``stroke.to``. The lever's pair-E element and the slider profile are then the exact centrodes
+    of the lever/slider relative motion (:mod:`mechsketch.core.analyses.rolling.law`).
+    """
+
+    kind: str = "table"
+    travel: float = 0.0
+    table: tuple[tuple[float, float], ...] = ()
+
+    def to_dict(self) -> dict:
+        if self.kind == "table":
+            return {"table": [[t, s] for t, s in self.table]}
+        return {"law": self.kind, "travel": self.travel}
+
+
 @dataclass(frozen=True)
 class Drive:
     """The crank drive: ground pivot A of the crank and the lever point C (drawn pose) of the coupler."""
@@ -80,13 +106,16 @@ class RollingLever:
     with the lever circle is the contact of pair D. ``slider_side`` +1/−1: the intersection of the
     normal to the slider axis with the slider circle on the side of the axis rotated by ±90°.
     ``points``: the stroke is divided into ``points`` intervals (``points + 1`` samples).
+    Exactly one of ``slider_circle`` and ``slider_law`` (:class:`SliderLaw`) is set; with a law the
+    method is ``exact`` and ``slider_side`` says on which side of the pair-D contact, along
+    n = J d_s, the pair-E contact lies (its working side: side·(P0 − P)·n ≥ 0 over the stroke).
     """
 
     id: str
     lever_circle: Circle
     pin: XYTuple
     rocker_pivot: XYTuple
-    slider_circle: Circle
+    slider_circle: Circle | None
     stroke: Stroke
     contact_branch: str = "near"
     slider_axis_deg: float = 0.0
@@ -96,6 +125,7 @@ class RollingLever:
     tolerance: float = DEFAULT_TOLERANCE
     pin_diameter: float = DEFAULT_PIN_DIAMETER
     drive: Drive | None = None
+    slider_law: SliderLaw | None = None
     type: str = field(default="rolling_lever", init=False)
 
     # -- derived constants of the drawn pose ------------------------------------------------
@@ -123,7 +153,10 @@ class RollingLever:
         msgs, p, p0 = _drawn_geometry(self)
         if msgs:
             raise GeometryError(f"rolling lever {self.id!r}: {msgs[0][1]}")
-        assert p is not None and p0 is not None
+        assert p is not None
+        if p0 is None:   # a slider law: the contact of pair E lies on the normal, k53 = dS5/dθ from P
+            raise GeometryError(f"rolling lever {self.id!r}: with a slider law the contact of pair E comes "
+                                "from the synthesis (RollingSynthesis.P0)")
         return p, p0
 
     def to_dict(self) -> dict[str, Any]:
@@ -134,7 +167,7 @@ class RollingLever:
             "contact_branch": self.contact_branch,
             "pin": [self.pin[0], self.pin[1]],
             "rocker_pivot": [self.rocker_pivot[0], self.rocker_pivot[1]],
-            "slider_circle": self.slider_circle.to_dict(),
+            **({"slider_circle": self.slider_circle.to_dict()} if self.slider_circle is not None else {}),
             "slider_axis_deg": self.slider_axis_deg,
             "slider_side": self.slider_side,
             "stroke": self.stroke.to_dict(),
@@ -143,6 +176,8 @@ class RollingLever:
             "tolerance": self.tolerance,
             "pin_diameter": self.pin_diameter,
         }
+        if self.slider_law is not None:
+            d["slider_law"] = self.slider_law.to_dict()
         if self.drive is not None:
             d["drive"] = self.drive.to_dict()
         return d
@@ -224,6 +259,8 @@ def _drawn_geometry(el: RollingLever) -> tuple[list[tuple[str, str]], XYTuple | 
                                        "pivot is inside the lever circle; use the 'far' branch or move it"))
         return msgs, None, None
     p = (gx + t * ex, gy + t * ey)
+    if el.slider_circle is None:   # a slider law: pair E is derived from it (analyses.rolling.law)
+        return msgs, p, None
     dsx, dsy = el.slider_axis
     nx, ny = -dsy, dsx
     zx, zy = p[0] - el.slider_circle.center[0], p[1] - el.slider_circle.center[1]
@@ -240,6 +277,41 @@ def _drawn_geometry(el: RollingLever) -> tuple[list[tuple[str, str]], XYTuple | 
     return msgs, p, (p[0] + t2 * nx, p[1] + t2 * ny)
 
 
+def _slider_law(data: dict[str, Any], stroke: Stroke, bad) -> SliderLaw | None:
+    """The ``slider_law`` of a rolling-lever dict (None without one); problems go to ``bad``."""
+    sl = data.get("slider_law")
+    if sl is None:
+        return None
+    if ("table" in sl) == ("law" in sl):
+        bad("slider_law", "give either 'table' ([[θ rad, S5 mm], ...]) or 'law' with 'travel' (mm)")
+        return None
+    lo, hi = sorted((stroke.start, stroke.end))
+    if not lo <= 0.0 <= hi:
+        bad("stroke", f"with a slider law the drawn pose (θ = 0) must lie within the stroke (from {stroke.start:g} "
+                      f"to {stroke.end:g} rad): the slider's displacement is counted from it")
+    if "law" in sl:
+        if "travel" not in sl:
+            bad("slider_law.travel", f"the {sl['law']} law needs 'travel' (mm, S5 at stroke.to)")
+            return None
+        travel = float(sl["travel"])
+        if travel == 0.0:
+            bad("slider_law.travel", "the travel is 0: the slider would not move (the profiles would be the "
+                                     "lever's pair-D centrodes)")
+        return SliderLaw(sl["law"], travel)
+    pts = tuple((float(a), float(b)) for a, b in sl["table"])
+    th = [a for a, _ in pts]
+    steps = [b - a for a, b in zip(th, th[1:])]
+    if not (all(d > 0 for d in steps) or all(d < 0 for d in steps)):
+        k = next(i for i, d in enumerate(steps) if d == 0 or (d > 0) != (steps[0] > 0))
+        bad(f"slider_law.table[{k + 1}]", f"θ must be strictly increasing or decreasing; θ = {th[k + 1]:g} rad "
+                                          f"after {th[k]:g} rad")
+        return None
+    if min(th) > lo or max(th) < hi:
+        bad("slider_law.table", f"the table covers θ from {min(th):g} to {max(th):g} rad; the stroke needs "
+                                f"{lo:g} to {hi:g} rad")
+    return SliderLaw("table", 0.0, pts)
+
+
 def parse(data: dict[str, Any], path: str) -> tuple[RollingLever | None, list[Problem]]:
     """Check a schema-valid rolling-lever dict for meaning; return the element (or None) and problems."""
     problems: list[Problem] = []
@@ -248,7 +320,7 @@ def parse(data: dict[str, Any], path: str) -> tuple[RollingLever | None, list[Pr
     def bad(where: str, msg: str) -> None:
         problems.append(Problem(f"{path}.{where}", msg, eid))
 
-    lc, sc, st = data["lever_circle"], data["slider_circle"], data["stroke"]
+    lc, sc, st = data["lever_circle"], data.get("slider_circle"), data["stroke"]
     drive = None
     if "drive" in data:
         dd = data["drive"]
@@ -264,7 +336,7 @@ def parse(data: dict[str, Any], path: str) -> tuple[RollingLever | None, list[Pr
         lever_circle=Circle(_xy(lc["center"]), float(lc["radius"])),
         pin=_xy(data["pin"]),
         rocker_pivot=_xy(data["rocker_pivot"]),
-        slider_circle=Circle(_xy(sc["center"]), float(sc["radius"])),
+        slider_circle=Circle(_xy(sc["center"]), float(sc["radius"])) if sc is not None else None,
         stroke=stroke,
         contact_branch=data.get("contact_branch", "near"),
         slider_axis_deg=float(data.get("slider_axis_deg", 0.0)),
@@ -274,7 +346,16 @@ def parse(data: dict[str, Any], path: str) -> tuple[RollingLever | None, list[Pr
         tolerance=float(data.get("tolerance", DEFAULT_TOLERANCE)),
         pin_diameter=float(data.get("pin_diameter", DEFAULT_PIN_DIAMETER)),
         drive=drive,
+        slider_law=_slider_law(data, stroke, bad),
     )
+    if (sc is None) == (el.slider_law is None):
+        bad("slider_circle", "give exactly one of slider_circle (pair E rolls on a circle of the lever) and "
+                             "slider_law (the slider's displacement S5(θ) prescribed)"
+                             + (", not both" if sc is not None else ""))
+        return None, problems
+    if el.slider_law is not None and el.method != "exact":
+        bad("method", f"a slider law is synthesised by the exact method only (the paper's construction "
+                      f"needs a slider circle); got {el.method!r}")
     for key, msg in _drawn_geometry(el)[0]:
         bad(key, msg)
     if problems:

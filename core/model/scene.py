@@ -15,7 +15,8 @@ FORMAT = "mechsketch.scene"
 #: 2: a linkage's driver states its ``kind`` (crank, cylinder, slider) and may carry a stroke and
 #: a motion law; version 1 files are migrated on reading (core/io/scene_file.py).
 #: 3: a linkage may carry an optional ``drawing`` block (plate sizes for its cut-ready parts), and
-#: new element kinds (underlays...); every version 2 file is a version 3 file (the migration only
+#: new element kinds (underlays; gear pairs and geared Geneva drives, issue 25) and optional blocks
+#: (a rolling lever's slider law); every version 2 file is a version 3 file (the migration only
 #: changes the number)
 SCHEMA_VERSION = 3
 

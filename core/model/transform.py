@@ -14,6 +14,8 @@ from ..errors import EditError
 from .geneva import Geneva
 from .linkage import Linkage
 from .rolling_lever import Circle, Drive, RollingLever
+from .gear_pair import GearPair
+from .geared_geneva import GearedGeneva
 from .underlay import Underlay
 
 XY = tuple[float, float]
@@ -25,7 +27,7 @@ def _add(p: XY, dx: float, dy: float) -> XY:
 
 def translated(element: Any, dx: float, dy: float) -> Any:
     """``element`` with every drawn point moved by (dx, dy) mm (linkage, Geneva drive, rolling
-    lever); :class:`EditError` for an element type this version cannot move."""
+    lever, underlay, gear pair, geared Geneva); :class:`EditError` for a type this version cannot move."""
     if isinstance(element, Linkage):
         return replace(element, joints=tuple(j.moved(_add(j.at, dx, dy)) for j in element.joints))
     if isinstance(element, Geneva):
@@ -36,10 +38,15 @@ def translated(element: Any, dx: float, dy: float) -> Any:
             drive = Drive(_add(drive.crank_pivot, dx, dy), _add(drive.coupler_point, dx, dy))
         return replace(element,
                        lever_circle=Circle(_add(element.lever_circle.center, dx, dy), element.lever_circle.radius),
-                       slider_circle=Circle(_add(element.slider_circle.center, dx, dy), element.slider_circle.radius),
+                       slider_circle=None if element.slider_circle is None else
+                       Circle(_add(element.slider_circle.center, dx, dy), element.slider_circle.radius),
                        pin=_add(element.pin, dx, dy), rocker_pivot=_add(element.rocker_pivot, dx, dy), drive=drive)
     if isinstance(element, Underlay):
         return element.with_placement(element.placement.moved(dx, dy))
+    if isinstance(element, GearPair):
+        return replace(element, input_center=_add(element.input_center, dx, dy))
+    if isinstance(element, GearedGeneva):   # the gears hang on the crank centre
+        return replace(element, geneva=translated(element.geneva, dx, dy))
     raise EditError(f"cannot move element {getattr(element, 'id', '?')!r} of type "
                     f"{getattr(element, 'type', type(element).__name__)!r}")
 
@@ -60,6 +67,8 @@ def extent(element: Any) -> tuple[float, float, float, float]:
         pts = [(cc[0] - 0.6 * r, cc[1] - 0.6 * r), (wc[0] + r, wc[1] + r), (wc[0] - r, wc[1] - r)]
     elif isinstance(element, RollingLever):
         for c in (element.lever_circle, element.slider_circle):
+            if c is None:
+                continue
             pts += [(c.center[0] - c.radius, c.center[1] - c.radius), (c.center[0] + c.radius, c.center[1] + c.radius)]
         pts += [element.pin, element.rocker_pivot]
         if element.drive is not None:
@@ -67,6 +76,14 @@ def extent(element: Any) -> tuple[float, float, float, float]:
     elif isinstance(element, Underlay):
         x0, y0, x1, y1 = element.world_bounds()
         pts = [(x0, y0), (x1, y1)]
+    elif isinstance(element, GearPair):
+        a = element.center_distance
+        for c in (element.input_center, element.output_center):
+            pts += [(c[0] - a, c[1] - a), (c[0] + a, c[1] + a)]
+    elif isinstance(element, GearedGeneva):
+        box = extent(element.geneva)
+        c, a = element.input_center, element.center_distance
+        pts = [(box[0], box[1]), (box[2], box[3]), (c[0] - a, c[1] - a), (c[0] + a, c[1] + a)]
     if not pts:
         return (0.0, 0.0, 0.0, 0.0)
     xs, ys = [p[0] for p in pts], [p[1] for p in pts]

@@ -7,6 +7,8 @@ the bottom-left corner) are mapped into the scene by a :class:`Placement`: a sim
 ``world = offset + scale·R(angle)·source`` (mm per source unit, degrees, mm). Placing an underlay
 by two points of known distance is :meth:`Placement.scaled_about`; moving it is
 :meth:`Placement.moved`. Records are immutable; every change is a new record (one undo step).
+Pure Python (no numpy): the scene reader loads this module at every start of the CLI; array
+versions of the mapping are where the arrays are (the canvas, the readers).
 """
 from __future__ import annotations
 
@@ -14,9 +16,8 @@ import base64
 import binascii
 import math
 from dataclasses import dataclass, field, replace
-from typing import Any
-
-import numpy as np
+from functools import cached_property
+from typing import Any, Iterable, Sequence
 
 from ..errors import Problem
 
@@ -38,23 +39,23 @@ class Placement:
     angle_deg: float = 0.0
     offset: XY = (0.0, 0.0)
 
-    def _ab(self) -> tuple[float, float]:
+    def linear(self) -> tuple[float, float]:
+        """(a, b): the placement's linear part is [[a, -b], [b, a]] (a = scale·cos, b = scale·sin)."""
         t = math.radians(self.angle_deg)
         return self.scale * math.cos(t), self.scale * math.sin(t)
 
-    def to_world(self, xy: np.ndarray) -> np.ndarray:
-        """(N, 2) source points -> (N, 2) world points, mm."""
-        p = np.asarray(xy, dtype=float).reshape(-1, 2)
-        a, b = self._ab()
-        return np.column_stack([self.offset[0] + a * p[:, 0] - b * p[:, 1],
-                                self.offset[1] + b * p[:, 0] + a * p[:, 1]])
+    def to_world(self, points: Iterable[Sequence[float]]) -> list[XY]:
+        """Source points (x, y) -> world points, mm."""
+        a, b = self.linear()
+        ox, oy = self.offset
+        return [(ox + a * x - b * y, oy + b * x + a * y) for x, y in points]
 
-    def to_source(self, xy: np.ndarray) -> np.ndarray:
-        """(N, 2) world points (mm) -> (N, 2) source points (the inverse of :meth:`to_world`)."""
-        p = np.asarray(xy, dtype=float).reshape(-1, 2) - np.asarray(self.offset, dtype=float)
-        a, b = self._ab()
+    def to_source(self, points: Iterable[Sequence[float]]) -> list[XY]:
+        """World points (mm) -> source points (the inverse of :meth:`to_world`)."""
+        a, b = self.linear()
+        ox, oy = self.offset
         k = a * a + b * b
-        return np.column_stack([(a * p[:, 0] + b * p[:, 1]) / k, (-b * p[:, 0] + a * p[:, 1]) / k])
+        return [((a * (x - ox) + b * (y - oy)) / k, (-b * (x - ox) + a * (y - oy)) / k) for x, y in points]
 
     def moved(self, dx: float, dy: float) -> "Placement":
         """The same placement shifted by (dx, dy) mm."""
@@ -109,35 +110,33 @@ class Underlay:
         """"image" or "drawing"."""
         return "image" if self.image is not None else "drawing"
 
-    def source_corners(self) -> np.ndarray:
-        """(4, 2) corners of the source extent (a picture's frame, a drawing's bounding box)."""
+    @cached_property
+    def source_box(self) -> tuple[float, float, float, float]:
+        """(xmin, ymin, xmax, ymax) in source units: a picture's frame, a drawing's bounding box."""
         if self.image is not None:
-            w, h = self.image.width, self.image.height
-            return np.array([[0.0, 0.0], [w, 0.0], [w, h], [0.0, h]])
-        pts = self.source_points()
-        if not len(pts):
-            return np.zeros((4, 2))
-        (x0, y0), (x1, y1) = pts.min(axis=0), pts.max(axis=0)
-        return np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]])
+            return 0.0, 0.0, float(self.image.width), float(self.image.height)
+        xs = [x for p in self.paths for x, _ in p]
+        ys = [y for p in self.paths for _, y in p]
+        return (min(xs), min(ys), max(xs), max(ys)) if xs else (0.0, 0.0, 0.0, 0.0)
 
-    def source_points(self) -> np.ndarray:
-        """(M, 2) every vertex of every path, source units."""
-        if not self.paths:
-            return np.zeros((0, 2))
-        return np.concatenate([np.asarray(p, dtype=float) for p in self.paths])
+    def source_corners(self) -> list[XY]:
+        """The four corners of :attr:`source_box`."""
+        x0, y0, x1, y1 = self.source_box
+        return [(x0, y0), (x1, y0), (x1, y1), (x0, y1)]
 
-    def world_paths(self) -> list[np.ndarray]:
-        """Each path as (n, 2) world points, mm."""
-        return [self.placement.to_world(np.asarray(p, dtype=float)) for p in self.paths]
+    def world_paths(self) -> list[list[XY]]:
+        """Each path in world points, mm."""
+        return [self.placement.to_world(p) for p in self.paths]
 
-    def world_points(self) -> np.ndarray:
-        """(M, 2) every vertex in the world (what snaps), mm."""
-        return self.placement.to_world(self.source_points())
+    def world_points(self) -> list[XY]:
+        """Every vertex in the world (what snaps), mm."""
+        return [q for p in self.world_paths() for q in p]
 
     def world_bounds(self) -> tuple[float, float, float, float]:
         """(xmin, ymin, xmax, ymax) of what is drawn, mm."""
         c = self.placement.to_world(self.source_corners())
-        return float(c[:, 0].min()), float(c[:, 1].min()), float(c[:, 0].max()), float(c[:, 1].max())
+        xs, ys = [x for x, _ in c], [y for _, y in c]
+        return min(xs), min(ys), max(xs), max(ys)
 
     def with_placement(self, placement: Placement) -> "Underlay":
         return replace(self, placement=placement)

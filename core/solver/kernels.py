@@ -286,7 +286,8 @@ def _rrp_const(m0: complex, u0: complex, l0: complex) -> tuple:
 
 
 def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: complex,
-        order: int, flip: Arr | None = None, tol: float = 0.0, near: float = 0.0) -> DyadOut:
+        order: int, flip: Arr | None = None, tol: float = 0.0, near: float = 0.0,
+        const: tuple | None = None) -> DyadOut:
     """RRR dyad: link i = M–L, link j = H–L; M, H outer joints on known links, L the inner joint.
 
     Lengths and the assembly mode (sign of cross(H−M, L−M), +1: L left of M→H) come from the
@@ -294,8 +295,10 @@ def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: co
     so that the smooth branch is followed (see :mod:`mechsketch.core.solver.branches`).
     ``tol`` (mm): a margin ≥ −tol assembles; ``near`` (mm): M and H closer than this leave the
     direction M→H undetermined (a rhombus or kite where B meets D): singular, not solved.
+    ``const``: ``_rrr_const(m0, h0, l0)``, if the caller keeps it (a compiled plan does).
     """
-    li, lj, mode0, dl, sl, LI, DL, SL, DLSL, LILJ = _const((m0, h0, l0), lambda: _rrr_const(m0, h0, l0))
+    li, lj, mode0, dl, sl, LI, DL, SL, DLSL, LILJ = (const if const is not None else
+                                                     _const((m0, h0, l0), lambda: _rrr_const(m0, h0, l0)))
     mode = mode0 if flip is None else mode0 * flip
     armM, armH = m_state.arm_xy(m0), h_state.arm_xy(h0)
     mx, my = m_state.point_xy(m0)
@@ -368,13 +371,14 @@ def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: co
 
 
 def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex, l0: complex,
-        order: int, flip: Arr | None = None, tol: float = 0.0) -> DyadOut:
+        order: int, flip: Arr | None = None, tol: float = 0.0, const: tuple | None = None) -> DyadOut:
     """RRP dyad: link i = M–L (rod), link j = slider carrying L, sliding on a guide of known link g.
 
     The guide is the axis through drawn ``s0`` with unit direction ``u0`` (moves with g). Mode:
     sign of the rod's projection on the guide in the drawn pose (the paper's choice of x_q).
+    ``const``: ``_rrp_const(m0, u0, l0)``, if the caller keeps it (a compiled plan does).
     """
-    li, mode0, LI = _const((m0, u0, l0, 0), lambda: _rrp_const(m0, u0, l0))
+    li, mode0, LI = const if const is not None else _const((m0, u0, l0, 0), lambda: _rrp_const(m0, u0, l0))
     mode = mode0 if flip is None else mode0 * flip
     armM = m_state.arm_xy(m0)
     mx, my = m_state.point_xy(m0)
@@ -508,7 +512,11 @@ def prp(g1: LinkState, s1: complex, u1_0: complex, g2: LinkState, s2: complex, u
         l0: complex, order: int) -> DyadOut:
     """PRP dyad: link i slides on a guide of g1, link j on a guide of g2, pinned together at L.
 
-    No assembly mode (two lines meet once); singular when the guides are parallel.
+    No assembly mode (two lines meet once), but a side: the guides cross one way in the drawn
+    pose (the sign of det = cross(u1, −u2)); where they turn parallel the pin runs off to
+    infinity and comes back from the other side, which the mechanism cannot reach. So the group
+    assembles only where its guides cross as drawn and are more than PARALLEL_COND from parallel;
+    its margin ``gap`` is det signed that way (negative beyond a parallel pose).
     """
     z1, z2 = g1.point(s1), g2.point(s2)
     u1, u2 = g1.rot * u1_0, g2.rot * u2_0
@@ -516,8 +524,9 @@ def prp(g1: LinkState, s1: complex, u1_0: complex, g2: LinkState, s2: complex, u
     c1, c2 = u1, -u2
     p1, p2, det = solve2(c1, c2, z2 + b2 - z1 - b1)
     cond = np.abs(det)
-    ok = np.isfinite(p1) & (cond > PARALLEL_COND)
-    gap = cond
+    side = 1.0 if cross(np.asarray(u1_0), np.asarray(-u2_0)).item() >= 0.0 else -1.0   # drawn
+    gap = det if side > 0.0 else -det
+    ok = np.isfinite(p1) & (gap > PARALLEL_COND)
     L = z1 + b1 + p1 * u1
     if order >= 1:
         v1 = g1.velocity(s1, z1) + 1j * g1.omega * (L - z1)

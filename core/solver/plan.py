@@ -19,6 +19,7 @@ from ..model.linkage import JointKind, Linkage
 from . import kernels as K
 from .branches import find_branch_points, flip_factor
 from .drive import CrankDrive, find_linear_branch_points, linear_flip, make_drive
+from .memory import reserve as _reserve
 from .motion_law import cycle
 from .solution import Solution, _axis, _c, unwrap_finite
 from .steps import Step
@@ -26,6 +27,9 @@ from .structure import Group, GroupKind, decompose, mobility
 from .tolerances import SINGULAR_REL, TOGGLE_COND, TOUCH_REL
 
 __all__ = ["TOGGLE_COND", "TOUCH_REL", "Plan", "Solution", "Step", "compile_plan", "unwrap_finite"]
+
+#: sweeps of up to this many samples need no reserve (:mod:`.memory`)
+_reserved_for = 255
 
 
 @dataclass
@@ -47,6 +51,8 @@ class Plan:
     _local: "Plan | None" = field(default=None, repr=False)
     #: joint -> (link whose frame reports it, drawn position): the lookup of every extraction
     joint_at: dict[str, tuple[str, complex]] = field(default_factory=dict, repr=False)
+    #: (every step's index, the branch points) once every group's branch points are known
+    _every: tuple | None = field(default=None, repr=False)
 
     def local(self) -> "Plan":
         """This plan for the linkage moved so that its driver pivot sits at the origin (the
@@ -176,10 +182,19 @@ class Plan:
         """
         if order not in (0, 1, 2):
             raise RequestError(f"order must be 0, 1 or 2, got {order}")
-        idx = self.steps_for(joints)
-        branches = self.branch_points(idx)
+        every = self._every
+        if joints is None and every is not None and every[1] is self._branches:   # every step's known
+            idx, branches = every
+        else:
+            idx = self.steps_for(joints)
+            branches = self.branch_points(idx)
+            if joints is None:
+                self._every = (idx, branches)
         start = time.perf_counter()
-        inputs = np.asarray(inputs, dtype=float).reshape(-1)
+        if not (inputs.__class__ is np.ndarray and inputs.dtype == np.float64 and inputs.ndim == 1):
+            inputs = np.asarray(inputs, dtype=float).reshape(-1)
+        if inputs.shape[0] > _reserved_for:
+            _reserve(inputs.shape[0])
         w = self.omega if omega is None else _rate(omega)
         alpha = _rate(alpha)
         states: dict[str, K.LinkState] = {}
@@ -266,13 +281,15 @@ def _compile_step(linkage: Linkage, g: Group) -> Step:
         m0, h0, l0 = at[g.outer_i], at[g.outer_j], at[g.inner]
         scale = abs(l0 - m0) + abs(l0 - h0)
         tol, near = touch_tol(scale), near_tol(scale)
-        run = lambda s, o, f: K.rrr(s[ki], m0, s[kj], h0, l0, o, f, tol, near)  # noqa: E731
+        c = K._rrr_const(m0, h0, l0)
+        run = lambda s, o, f: K.rrr(s[ki], m0, s[kj], h0, l0, o, f, tol, near, c)  # noqa: E731
     elif g.kind is GroupKind.RRP:
         m0, l0 = at[g.outer_i], at[g.inner]
         s0, u0 = _axis(linkage, g.outer_j)
         scale = abs(l0 - m0)
         tol = touch_tol(scale)
-        run = lambda s, o, f: K.rrp(s[ki], m0, s[kj], s0, u0, l0, o, f, tol)  # noqa: E731
+        c = K._rrp_const(m0, u0, l0)
+        run = lambda s, o, f: K.rrp(s[ki], m0, s[kj], s0, u0, l0, o, f, tol, c)  # noqa: E731
     elif g.kind is GroupKind.RPR:
         m0, h0 = at[g.outer_i], at[g.outer_j]
         _, u0 = _axis(linkage, g.inner)

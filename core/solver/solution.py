@@ -119,6 +119,8 @@ class Solution:
         All False for a solve of order 0."""
         if self.order < 1:
             return np.zeros(len(self), dtype=bool)
+        if self._rates_valid is None and self._rates_bounded():
+            self._rates_valid = self.valid.copy()   # known without a pass over the samples
         if self._rates_valid is None:
             ok = self.valid.copy()
             eps = np.finfo(float).eps
@@ -137,6 +139,24 @@ class Solution:
                         ok &= np.broadcast_to(np.isfinite(np.asarray(r)), ok.shape)
             self._rates_valid = ok
         return self._rates_valid
+
+    def _rates_bounded(self) -> bool:
+        """The rates are finite (:meth:`_is_quiet`) and every group's conditioning is known, from
+        its kernel's lower bound (``DyadOut.cond_floor``), to keep the rates' estimated error below
+        RATE_REL at every sample: then :attr:`rates_valid` is ``valid``, with no pass over them."""
+        if not self._is_quiet():
+            return False
+        eps = np.finfo(float).eps
+        for step in self.plan.steps:
+            out = self._outs.get(step.group.name)
+            if out is None or step.group.fixed:
+                continue
+            f = out.cond_floor
+            if step.group.kind in MODAL_KINDS:
+                f = f * f
+            if not RATE_EPS * eps * (1.0 + step.coord / step.scale) <= RATE_REL * f:
+                return False
+        return True
 
     def rate_error(self, group: str) -> np.ndarray:
         """(N,) the estimated relative error of the rates ``group`` computes (its own part, not

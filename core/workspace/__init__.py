@@ -7,8 +7,10 @@ from __future__ import annotations
 
 from .facade import ElementView
 from .rebuild import rebuilt
-from .results import ElementResult, GenevaResult, LinkageResult, RollingFrames, RollingResult, solve_element
+from .results import (ElementResult, GearedGenevaResult, GearResult, GenevaResult, LinkageResult, RollingFrames,
+                      RollingResult, solve_element)
 from .workspace import Change, ElementChange, Workspace
 
-__all__ = ["Change", "ElementChange", "ElementResult", "ElementView", "GenevaResult", "LinkageResult",
+__all__ = ["Change", "ElementChange", "ElementResult", "ElementView", "GearResult", "GearedGenevaResult",
+           "GenevaResult", "LinkageResult",
            "RollingFrames", "RollingResult", "Workspace", "rebuilt", "solve_element"]

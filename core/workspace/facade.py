@@ -15,6 +15,8 @@ from ..model.edits import Edit
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..analyses.forces.kinetostatics import ForceResult
+    from ..studies.tolerance import LinearBand, ToleranceResult
+    from ..studies.variants import Variants
     from ..analyses.geneva.contact import GenevaContact
     from ..analyses.geneva.geometry import GenevaGeometry
     from ..analyses.geneva.kinematics import GenevaKinematics
@@ -110,6 +112,42 @@ class ElementView:
 
         self._need("linkage")
         return self._ws.apply(SetDimension(self._id, key, value))
+
+    # -- design studies (core/studies) ---------------------------------------------------
+    def solve_variants(self, values: dict, samples: int | None = None, order: int = 2,
+                       joints: Iterable[str] | None = None, links: Iterable[str] | None = None,
+                       progress: Any = None) -> Variants:
+        """D variants of this linkage at once: ``values`` {key: array (D,)} (dimension keys, pivots
+        ``x:J``/``y:J``, coupler points, masses, loads: :mod:`mechsketch.core.studies.keys`).
+        ``b.position("E")`` (D, N, 2) mm, ``b.velocity``, ``b.acceleration``, ``b.angle(link)``
+        (D, N), ``b.valid`` (D, N), ``b.full_cycle`` (D,), ``b.min_transmission_angle`` (D,) °,
+        ``b.forces()``; see :class:`~mechsketch.core.studies.variants.Variants`."""
+        from ..studies.variants import solve_variants
+
+        return solve_variants(self._need("linkage"), values, samples=samples, order=order, joints=joints,
+                              links=links, progress=progress)
+
+    def tolerance(self, spec: dict, builds: int = 10_000, samples: int | None = None, seed: int = 0,
+                  client: Any = None, workers: int = 1, joints: Iterable[str] | None = None,
+                  links: Iterable[str] | None = None, progress: Any = None, cancel: Any = None) -> ToleranceResult:
+        """Tolerance and pin-clearance Monte Carlo of B = ``builds`` builds: ``spec`` {key:
+        {"normal": σ} | {"uniform": half-width}, "clearance": {joint: "H7/g6"}}. ``t.deviation("E")``
+        (B,) mm, ``t.envelope("E", q)`` (N, 2), ``t.angle_deviation(link)`` (B,) °,
+        ``t.sensitivity()``; ``client`` a Dask client or scheduler address; see
+        :mod:`mechsketch.core.studies.tolerance`."""
+        from ..studies.tolerance import tolerance
+
+        return tolerance(self._need("linkage"), spec, builds=builds, samples=samples, seed=seed, joints=joints,
+                         links=links, client=client, workers=workers, progress=progress, cancel=cancel)
+
+    def linearised_tolerance(self, spec: dict, samples: int | None = None, joints: Iterable[str] | None = None,
+                             links: Iterable[str] | None = None) -> LinearBand:
+        """The first-order band of ``spec`` from the exact derivatives (one solve): ``.sigma(j)``,
+        ``.band(j, k=3)``, ``.envelope(j)``, ``.sensitivity(j)``, ``.agreement(t, j)`` against a
+        Monte Carlo ``t``."""
+        from ..studies.tolerance import linearised_tolerance
+
+        return linearised_tolerance(self._need("linkage"), spec, samples=samples, joints=joints, links=links)
 
     # -- Geneva drives --------------------------------------------------------------------
     def kinematics(self, samples: int | None = None) -> GenevaKinematics:

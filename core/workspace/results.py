@@ -303,7 +303,8 @@ class RollingResult(_Result):
     ``frame_profile`` (M, 2) mm ground frame and ``slider_profile`` (M, 2) mm slider frame are
     polylines through the synthesis' profile curves; ``bicentrode`` (N+1, 2) mm the locus of P0;
     ``lever_arc`` and ``slider_arc`` (start, end) rad the contact angles u1, u2 over the stroke
-    (lever frame). :attr:`slip_samples`: the slip of pairs D and E accumulated along the stroke,
+    (lever frame; with a slider law ``slider_arc`` is the θ range and ``lever_profile_e`` (M, 2) mm
+    the lever element Π30 in the lever frame). :attr:`slip_samples`: the slip of pairs D and E accumulated along the stroke,
     computed by the synthesis' slip report (the last values are the summary's figures).
     ``error`` holds the core's message when the synthesis failed.
     """
@@ -316,6 +317,8 @@ class RollingResult(_Result):
     bicentrode: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
     lever_arc: tuple[float, float] = (0.0, 0.0)
     slider_arc: tuple[float, float] = (0.0, 0.0)
+    #: with a slider law: the lever element Π30 in the lever frame, (M, 2) mm (else empty)
+    lever_profile_e: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
     error: str | None = None
     exception: MechsketchError | None = field(default=None, repr=False)   # what ``error`` says
     seconds: float = 0.0
@@ -391,6 +394,8 @@ def solve_rolling(element: RollingLever, measures: bool = True) -> RollingResult
         out.frames = _rolling_frames(res, rolling_frame_count(element))
         out.frame_profile = _curve(res.frame_profile(), PROFILE_POINTS)
         out.slider_profile = _curve(res.slider_profile(), PROFILE_POINTS)
+        if element.slider_law is not None:
+            out.lever_profile_e = _curve(res.lever_profile_e(), PROFILE_POINTS)
     except MechsketchError as exc:
         out.error, out.exception = _message(exc), exc.with_traceback(None)
         out.frames = None
@@ -404,7 +409,139 @@ def solve_rolling(element: RollingLever, measures: bool = True) -> RollingResult
     return out
 
 
-ElementResult = Union[LinkageResult, GenevaResult, RollingResult]
+# -- gear pairs and the Geneva they drive ---------------------------------------------------------
+@dataclass
+class GearResult(_Result):
+    """A non-circular gear pair over one input turn of N samples (equal times).
+
+    ``kinematics`` (:class:`~..analyses.gears.pitch.GearKinematics`), ``checks``
+    (:class:`~..analyses.gears.pitch.PitchChecks`), ``input_curve`` / ``output_curve`` (M, 2) mm the
+    pitch curves in their body frames (closed polylines), ``input_center`` / ``output_center`` mm,
+    ``input_rotation`` / ``output_rotation`` (N,) rad the world rotations of the bodies per frame
+    (line of centres included). ``error`` is the core's message when the pair cannot be built.
+    """
+
+    element: object
+    kinematics: object = None
+    checks: object = None
+    input_curve: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
+    output_curve: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
+    input_center: tuple[float, float] = (0.0, 0.0)
+    output_center: tuple[float, float] = (0.0, 0.0)
+    input_rotation: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    output_rotation: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    error: str | None = None
+    exception: MechsketchError | None = field(default=None, repr=False)
+    seconds: float = 0.0
+
+    kind = "gear_pair"
+
+    @property
+    def n_frames(self) -> int:
+        return len(self.input_rotation)
+
+    @property
+    def period(self) -> float:
+        return self.kinematics.period if self.kinematics is not None else 1.0
+
+    def frame_text(self, k: int) -> str:
+        kin = self.kinematics
+        return f"input {math.degrees(kin.input_rotation[k]):.1f}°  ratio {kin.ratio[k]:.3f}  t {float(kin.t[k]):.3f} s"
+
+    def summary(self) -> str:
+        if self.kinematics is None:
+            return f"gear pair {self.element.id!r}: {self.error}"
+        from ..analyses.gears.report import gear_summary
+
+        el = self.element
+        return gear_summary(el.id, el.function, el.center_distance, self.kinematics, self.checks)
+
+
+def solve_gear_pair(element, samples: int | None = None) -> GearResult:
+    """The pitch curves, checks and kinematics of a ``gear_pair`` element (never raises)."""
+    from ..analyses.gears.pitch import checks, curves, kinematics
+
+    t0 = time.perf_counter()
+    out = GearResult(element)
+    try:
+        n = int(samples or element.samples)
+        kin = kinematics(element.function, element.center_distance, element.speed_rpm, n)
+        out.kinematics, out.checks = kin, checks(element.function, element.center_distance, kin.sense)
+        out.input_curve, out.output_curve = curves(element.function, element.center_distance, kin.sense, PROFILE_POINTS)
+    except MechsketchError as exc:
+        out.error, out.exception = _message(exc), exc.with_traceback(None)
+        out.kinematics = None
+        return out
+    d = math.radians(element.direction_deg)
+    out.input_center, out.output_center = element.input_center, element.output_center
+    out.input_rotation = d + kin.input_rotation
+    out.output_rotation = d + kin.output_rotation
+    out.seconds = time.perf_counter() - t0
+    return out
+
+
+@dataclass
+class GearedGenevaResult(GenevaResult):
+    """A Geneva drive driven through gears (``geared_geneva``): a :class:`GenevaResult` of its drive
+    (``element`` the inner Geneva, with the composite's id) whose ``kinematics`` and ``contact`` are
+    those of the geared crank and whose ``crank_rotation`` follows the gears' output; ``gears`` the
+    pair's :class:`GearResult` on the same frames, ``smoothness`` against the constant crank,
+    ``input_torque`` (N,) N·m the crank's torque passed back through the gears, ``composite`` the
+    scene element."""
+
+    gears: GearResult | None = None
+    smoothness: object = None
+    input_torque: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    composite: object = None
+
+    kind = "geared_geneva"
+
+    def summary(self) -> str:
+        if self._summary is None:
+            if self.kinematics is None or self.contact is None or self.gears is None:
+                self._summary = f"geared Geneva {self.element.id!r}: {self.error}"
+            else:
+                from ..analyses.geneva.driven_report import geared_summary
+
+                self._summary = geared_summary(self.composite, self.kinematics, self.contact, self.smoothness,
+                                               self.gears.summary(), self.input_torque, self.geometry)
+        return self._summary
+
+
+def solve_geared_geneva(element, samples: int | None = None) -> GearedGenevaResult:
+    """The driven Geneva and its gears over one input turn (never raises)."""
+    from ..analyses.geneva.contact import contact
+    from ..analyses.geneva.driven import GearCrank, driven_kinematics, smoothness
+    from ..analyses.geneva.torque import crank_torque
+
+    t0 = time.perf_counter()
+    g = element.geneva
+    res = GearedGenevaResult(g, composite=element)
+    n = int(samples or g.samples)
+    try:
+        check_request(g, n)
+        kin, theta = driven_kinematics(g.slots, g.omega1, element.function, n)
+        crank = GearCrank(element.function, g.omega1)
+        u = (1.0 if g.omega1 > 0 else -1.0) * kin.phi
+        res.kinematics = kin
+        res.contact = contact(g, n, g.model, u=u, crank=crank)
+        res.smoothness = smoothness(element.function, g.slots, g.omega1)
+        res.gears = solve_gear_pair(element.gear_pair, n)
+        ratio = crank.ev.derivatives(theta)[1]
+        res.input_torque = -crank_torque(g, res.contact).torque * ratio
+    except MechsketchError as exc:
+        res._error, res._exception = _message(exc), exc.with_traceback(None)
+        res.seconds = time.perf_counter() - t0
+        return res
+    direction = math.radians(g.wheel_direction_deg)
+    res.crank_rotation = direction + kin.phi
+    res.wheel_rotation = direction + kin.wheel_angle
+    res._geometry_pending = True
+    res.seconds = time.perf_counter() - t0
+    return res
+
+
+ElementResult = Union[LinkageResult, GenevaResult, RollingResult, GearResult]
 
 
 def solve_element(element, samples: int | None = None, measures: bool = True) -> ElementResult | None:
@@ -422,4 +559,8 @@ def solve_element(element, samples: int | None = None, measures: bool = True) ->
         from ..model.rolling_lever import RollingLever
 
         return solve_rolling(element, measures) if isinstance(element, RollingLever) else None
+    if kind == "gear_pair":
+        return solve_gear_pair(element, samples)
+    if kind == "geared_geneva":
+        return solve_geared_geneva(element, samples)
     return None

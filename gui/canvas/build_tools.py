@@ -63,6 +63,10 @@ class CrankTool(Tool):
     def picks(self) -> list[Hit]:
         return [self._pivot] if self._pivot is not None else []
 
+    def anchor(self) -> XY | None:
+        p = self._pivot
+        return self.ctx.at(p.element, p.id) if p is not None and self.ctx.exists(p) else None
+
     def overlay(self) -> Overlay:
         p = self._pivot
         if p is None or not self.ctx.exists(p):
@@ -210,11 +214,14 @@ class SliderTool(_DyadTool):
         super().reset()
         self._guide: tuple[str, XY] | None = None
 
+    def anchor(self) -> XY | None:
+        return self._guide[1] if self._guide is not None else None
+
     def picks(self) -> list[Hit]:
         out = list(self._picked)
         if self._guide is not None and self._picked:
             el = self._picked[0].element
-            if el in self.ctx.controller.scene.ids and self._guide[0] != self.ctx.linkage(el).ground:
+            if self.ctx.has_linkage(el) and self._guide[0] != self.ctx.linkage(el).ground:
                 out.append(Hit(el, "link", self._guide[0]))
         return out
 

@@ -25,6 +25,7 @@ from mechsketch.core.model.linkage import Linkage
 
 from .items import _pen, _px, _text
 from ..frames import map_frame
+from ..qtsafe import qt_safe
 
 FIXED = QColor("#c2255c")
 MOVING = QColor("#1971c2")
@@ -51,6 +52,7 @@ def body_transform(origin: tuple[float, float], at: np.ndarray, rotation: float)
     return t
 
 
+@qt_safe
 class _Marks(QGraphicsItem):
     """The contact (instant centre) dot and the break marks, painted per frame."""
 
@@ -76,6 +78,7 @@ class _Marks(QGraphicsItem):
         _text(painter, o.label_at, o.label, px, 0.0, 0.0, MOVING, 11, True)
 
 
+@qt_safe
 class CentrodeItem(QGraphicsItem):
     """Both centrodes of one link for one solution (see the module docstring)."""
 

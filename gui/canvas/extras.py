@@ -52,7 +52,14 @@ class CanvasExtras(QObject):
         ctl.changed.connect(self.refresh)
         ctl.frameChanged.connect(self.refresh)
         ctl.selectionChanged.connect(self.refresh)
+        ctl.documentReplaced.connect(self._on_replaced)
         self.refresh()
+
+    def _on_replaced(self) -> None:
+        """A new document: the centrodes of a link of the old one are switched off."""
+        act = self.actions.get("centrodes")
+        if act is not None and act.isChecked():
+            act.setChecked(False)
 
     def _toggled(self, name: str, on: bool) -> None:
         """Switch an overlay; a switch that cannot be on (centrodes without a link) goes back off."""

@@ -25,6 +25,7 @@ from mechsketch.core.model.geneva import Geneva
 from .arrows import arrow, nice_scale
 from .items import INK, _Item, _pen, _px, _rect_of, _text
 from ..frames import map_frame
+from ..qtsafe import qt_safe
 
 REACTION = QColor("#e8590c")
 TORQUE = QColor("#a61e4d")
@@ -32,6 +33,7 @@ TORQUE = QColor("#a61e4d")
 ARROW_FRACTION = 0.25
 
 
+@qt_safe
 class ForcesItem(_Item):
     """Reaction arrows (records: at, tip, text), torque texts (at, torque) and legends."""
 

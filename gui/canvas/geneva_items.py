@@ -23,6 +23,7 @@ from mechsketch.core.analyses.contour import Contour, Part
 
 from mechsketch.core.workspace import GenevaResult
 from .items import INK, MUTED, NOTE, SELECT, _pen, _px, _text
+from ..qtsafe import qt_safe
 
 WHEEL_FILL = QColor("#cfdcee")
 WHEEL_EDGE = QColor("#3d5f8f")
@@ -111,6 +112,7 @@ def _path_item(path: QPainterPath, parent: QGraphicsItem, fill: QColor | None, e
     return item
 
 
+@qt_safe
 class _Container(QGraphicsItem):
     """A parent whose children draw the parts; it paints only its label (constant size on screen).
 

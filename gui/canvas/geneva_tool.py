@@ -80,6 +80,15 @@ class GenevaTool(Tool):
         self._centre: XY | None = None
         self._last: XY | None = None
 
+    def anchor(self) -> XY | None:
+        return self._centre
+
+    def forget(self, gone=None) -> bool:
+        """Also forget the drive just placed (keys 3-9 re-slot it) once it is gone."""
+        if gone is None or self.placed in gone:
+            self.placed = None
+        return super().forget(gone)
+
     def _candidate(self, pos: XY) -> tuple[Geneva | None, str | None]:
         eid = ops.fresh_element_id(self.ctx.controller.scene.ids, "geneva")
         try:

@@ -75,7 +75,8 @@ class LeverFrame:
 
 def _radius_dirs(el: RollingLever) -> tuple[XY, XY]:
     """Directions (drawn pose) of the two radius handles on the lever and slider circles."""
-    lc, sc = el.lever_circle.center, el.slider_circle.center
+    lc = el.lever_circle.center
+    sc = el.slider_circle.center if el.slider_circle is not None else el.pin
     away = _unit((lc[0] - el.pin[0], lc[1] - el.pin[1]))
     return _rot(away, math.radians(60)), _rot(_unit((sc[0] - el.pin[0], sc[1] - el.pin[1])), math.radians(-60))
 
@@ -108,19 +109,20 @@ def rolling_handles(el: RollingLever, res, k: int) -> list[Handle]:
            Handle(el.id, "lever_radius", lf.world((lc.center[0] + lc.radius * d1[0], lc.center[1] + lc.radius * d1[1])),
                   f"R1 = {lc.radius:.2f} mm"),
            Handle(el.id, "pin", lf.world(el.pin), "pin f"),
-           Handle(el.id, "pivot", el.rocker_pivot, "rocker pivot G"),
-           Handle(el.id, "slider_centre", lf.world(sc.center), "slider circle centre"),
-           Handle(el.id, "slider_radius", lf.world((sc.center[0] + sc.radius * d2[0], sc.center[1] + sc.radius * d2[1])),
-                  f"R2 = {sc.radius:.2f} mm")]
+           Handle(el.id, "pivot", el.rocker_pivot, "rocker pivot G")]
+    if sc is not None:   # a slider law has no slider circle: its pair E is derived, not drawn
+        out += [Handle(el.id, "slider_centre", lf.world(sc.center), "slider circle centre"),
+                Handle(el.id, "slider_radius", lf.world((sc.center[0] + sc.radius * d2[0],
+                                                         sc.center[1] + sc.radius * d2[1])), f"R2 = {sc.radius:.2f} mm")]
     fr = getattr(res, "frames", None)
     p0 = tuple(fr.P0[k]) if fr is not None and len(fr) else None
     if p0 is None or not all(math.isfinite(v) for v in p0):
         try:
             p0 = el.drawn_contacts()[1]
         except MechsketchError:
-            p0 = sc.center
+            p0 = sc.center if sc is not None else el.pin
     ds = el.slider_axis
-    reach = 0.5 * sc.radius
+    reach = 0.5 * (sc.radius if sc is not None else lc.radius)
     out.append(Handle(el.id, "axis", (p0[0] + reach * ds[0], p0[1] + reach * ds[1]),
                       f"slider axis {el.slider_axis_deg:.1f}°"))
     if el.drive is not None:
@@ -236,7 +238,30 @@ class HandleLayer:
 
     # -- the drag -------------------------------------------------------------------------------
     def handle(self, ev: CanvasEvent) -> None:
+        if self._grab is not None and self.stale():
+            self.cancel()
+            self._explain("the drag was interrupted (an edit, undo or another document): drag again")
+            return
         getattr(self, f"_on_{ev.kind}", lambda _ev: None)(ev)
+
+    def stale(self) -> bool:
+        """The drag under way lost its ground: its element is gone or was changed by something
+        else (an undo, another document), or its preview was ended by an edit."""
+        ctl, h = self.ctx.controller, self._grab
+        if h is None:
+            return False
+        if h.element not in ctl.scene.ids:
+            return True
+        if self._started:
+            return not ctl.workspace.previewing
+        return ctl.scene.element(h.element) is not self._base
+
+    def forget(self, gone=None) -> bool:
+        """Abandon the drag if its element is in ``gone`` (None: the document was replaced)."""
+        if self._grab is not None and (gone is None or self._grab.element in gone):
+            self.cancel()
+            return True
+        return False
 
     def _explain(self, text: str) -> None:
         if text != self._said:
@@ -264,7 +289,7 @@ class HandleLayer:
                 try:
                     p0 = el.drawn_contacts()[1]
                 except MechsketchError:
-                    p0 = el.slider_circle.center
+                    p0 = el.slider_circle.center if el.slider_circle is not None else el.pin
             self._grip = {"frame": lever_frame(el, res, k), "p0": p0}
         self._explain(f"{h.element}: drag the {h.label.split(' (')[0]}")
 
@@ -324,5 +349,7 @@ class HandleLayer:
     def _describe(el) -> str:
         if isinstance(el, Geneva):
             return f"A = {el.center_distance:.2f} mm, roller {el.roller_radius:.2f} mm, direction {el.wheel_direction_deg:.1f}°"
-        return (f"R1 = {el.lever_circle.radius:.2f} mm, R2 = {el.slider_circle.radius:.2f} mm, "
+        r2 = (f"R2 = {el.slider_circle.radius:.2f} mm" if el.slider_circle is not None
+              else f"slider law ({el.slider_law.kind})")
+        return (f"R1 = {el.lever_circle.radius:.2f} mm, {r2}, "
                 f"rocker ℓ = {el.rocker_length:.2f} mm, axis {el.slider_axis_deg:.1f}°")

@@ -28,6 +28,7 @@ from mechsketch.core.model.linkage import JointKind
 from ..qpath import xy_path as _path
 from .events import XY, Hit
 from .pose import ElementPose, SolutionArrays, link_outline, slider_roles
+from ..qtsafe import qt_safe
 
 INK = QColor("#2b2f36")
 MUTED = QColor("#6b7280")
@@ -102,6 +103,7 @@ def draw_ground(painter: QPainter, at: XY, px: float) -> None:
         painter.drawLine(QPointF(x0 + 2 * px, base), QPointF(x0 - 2 * px, base - 5 * px))
 
 
+@qt_safe
 class _Item(QGraphicsItem):
     """Base: a cached bounding rect padded by a margin in screen pixels."""
 
@@ -173,6 +175,7 @@ def _rect_of(points) -> QRectF:
     return QRectF(min(xs), min(ys), max(max(xs) - min(xs), 1e-6), max(max(ys) - min(ys), 1e-6))
 
 
+@qt_safe
 class LinkageItem(_Item):
     """One linkage at one pose: links, joints, ground, sliders, labels, highlight."""
 
@@ -361,6 +364,7 @@ class LinkageItem(_Item):
               -8.0, -36.0, NOTE, LABEL_PX)
 
 
+@qt_safe
 class TraceItem(_Item):
     """Traced joint paths and the driver circle (red where the linkage cannot be assembled).
 
@@ -453,6 +457,7 @@ class DeadMark:
     limit: bool
 
 
+@qt_safe
 class DeadPointItem(_Item):
     """Dead points and assembly limits of one linkage, drawn at their poses as red ghosts."""
 
@@ -524,6 +529,7 @@ class Overlay:
         return not (self.lines or self.points or self.circles or self.labels or self.rect or self.picked)
 
 
+@qt_safe
 class OverlayItem(_Item):
     """Paints the active tool's :class:`Overlay` above everything else."""
 

@@ -34,6 +34,7 @@ from .events import XY, CanvasEvent
 from .arrows import arrow
 from .items import Overlay, _Item, _pen, _px, _rect_of, _text
 from .pose import ElementPose, to_drawn
+from ..qtsafe import qt_safe
 
 LOAD = QColor("#c2255c")
 SPRING = QColor("#2f9e44")
@@ -153,7 +154,30 @@ class LoadLayer:
         return tool
 
     def handle(self, ev: CanvasEvent) -> None:
+        if self._grab is not None and self.stale():
+            self.cancel()
+            self.ctx.say("the load drag was interrupted (an edit, undo or another document): drag again")
+            return
         getattr(self, f"_on_{ev.kind}", lambda _ev: None)(ev)
+
+    def stale(self) -> bool:
+        """The drag under way lost its ground (its linkage or load gone or changed by something
+        else, or its preview ended by an edit)."""
+        ctl, h = self.ctx.controller, self._grab
+        if h is None:
+            return False
+        if not self.ctx.has_linkage(h.element):
+            return True
+        if self._started:
+            return not ctl.workspace.previewing
+        return ctl.scene.element(h.element) is not self._base
+
+    def forget(self, gone=None) -> bool:
+        """Abandon the drag if its linkage is in ``gone`` (None: the document was replaced)."""
+        if self._grab is not None and (gone is None or self._grab.element in gone):
+            self.cancel()
+            return True
+        return False
 
     def moved(self, linkage: Linkage, h: LoadHandle, pos: XY) -> Linkage:
         """``linkage`` with handle ``h`` dragged to world ``pos`` at the displayed frame (its load's
@@ -230,6 +254,7 @@ def _zigzag(a: XY, b: XY, px: float) -> QPainterPath:
     return path
 
 
+@qt_safe
 class LoadsItem(_Item):
     """Draws the records of :meth:`LoadLayer.records` (forces, torques, springs, dampers, handles)."""
 

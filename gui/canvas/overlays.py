@@ -32,6 +32,7 @@ from .centrode_view import CentrodeView
 from .force_overlay import ForcesItem, force_records
 from .items import BAD, INK, MUTED, _Item, _pen, _px, _rect_of, _text
 from ..frames import map_frame
+from ..qtsafe import qt_safe
 
 HANDLE = QColor("#0b7285")
 VEL = QColor("#2b8a3e")
@@ -44,6 +45,7 @@ VECTOR_FRACTION = 0.3
 MU_RANGE = (40.0, 140.0)   # degrees: a transmission angle outside is drawn in red
 
 
+@qt_safe
 class HandlesItem(_Item):
     """Squares at the handle positions with short labels."""
 
@@ -86,6 +88,7 @@ class _ArraysItem(_Item):
         self._bounds(_rect_of(points))
 
 
+@qt_safe
 class VectorsItem(_ArraysItem):
     """Velocity and acceleration arrows of joints (records: at, v_tip, a_tip) and a legend."""
 
@@ -104,6 +107,7 @@ class VectorsItem(_ArraysItem):
                     arrow(painter, r["at"], tip, px)
 
 
+@qt_safe
 class CentresItem(_ArraysItem):
     """Instant centres (records: at, label, far)."""
 
@@ -124,6 +128,7 @@ class CentresItem(_ArraysItem):
             _text(painter, (x, y), r["label"], px, 9.0, 8.0, IC, 10, True)
 
 
+@qt_safe
 class TransmissionItem(_ArraysItem):
     """Transmission-angle arcs (records: at, a0, sweep, mu)."""
 
@@ -148,6 +153,7 @@ class TransmissionItem(_ArraysItem):
                   -14.0, -4.0, colour, 10, True)
 
 
+@qt_safe
 class GenevaOverlayItem(_ArraysItem):
     """Geneva phase text, contact-force arrow, most-loaded marks (records per drive)."""
 
@@ -401,6 +407,8 @@ class OverlaySet:
                 now = float(res.wheel_rotation[k])
                 rec["loaded"] = [tuple(float(v) for v in wc + _rot(_rot(local, 2 * math.pi * i / el.slots), now))
                                  for i in range(el.slots)]
+                p_text = (f"p max {con.pressure_max:.0f} MPa" if math.isfinite(con.pressure_max)
+                          else "p max not computed (outside the contact model's validity range)")
                 rec["loaded_text"] = (f"most loaded: Rn max {rn_max:.0f} N at φ {math.degrees(con.phi_Rn_max):.1f}°, "
-                                      f"p max {con.pressure_max:.0f} MPa")
+                                      + p_text)
         return rec

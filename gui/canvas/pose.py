@@ -250,10 +250,25 @@ def _inside(p: complex, poly: list[complex]) -> bool:
 def link_outline(pose: ElementPose, link_id: str) -> list[complex]:
     """Displayed corner points of a link, in drawing order (angle-sorted for three or more).
 
-    A P joint counts for its block, not for its guide (the guide is drawn as a slot or rail)."""
+    A P joint counts for its block; on the link that carries its guide (drawn as a slot or rail)
+    it counts as the guide's end nearest the link's other joints, so that the link is drawn
+    joined to its guide (a cylinder's barrel from its pivot to the slide, a guide on a rocker)."""
     lk = pose.linkage
-    pts = [complex(*pose.at[j]) for j in lk.link(link_id).joints if j in pose.at
-           and not (lk.joint(j).kind is JointKind.P and slider_roles(lk, j)[0] == link_id)]
+    pts = []
+    guides = []
+    for j in lk.link(link_id).joints:
+        if j not in pose.at:
+            continue
+        if lk.joint(j).kind is JointKind.P and slider_roles(lk, j)[0] == link_id:
+            guides.append(j)
+        else:
+            pts.append(complex(*pose.at[j]))
+    for j in guides:
+        ends = [complex(*e) for e in pose.guide.get(j, ())]
+        ends = [e for e in ends if math.isfinite(e.real) and math.isfinite(e.imag)]
+        if ends and pts and lk.ground != link_id:
+            c = sum(pts) / len(pts)
+            pts.append(min(ends, key=lambda e: _abs(e - c)))
     uniq: list[complex] = []
     for p in pts:
         if all(_abs(p - q) > 1e-9 for q in uniq):

@@ -27,6 +27,7 @@ from PySide6.QtWidgets import QGraphicsItem, QGraphicsPathItem, QStyleOptionGrap
 from mechsketch.core.workspace import RollingResult
 from .geneva_items import _Container, _path_item, arc_to
 from .items import DRIVER_EDGE, INK, LINK_EDGE, LINK_FILL, MUTED, NOTE, SELECT, _pen, _px, _text, draw_ground
+from ..qtsafe import qt_safe
 
 FRAME_EDGE = QColor("#b03a2e")
 FRAME_FILL = QColor("#e8d5d2")
@@ -116,6 +117,7 @@ def lever_transform(F: np.ndarray, theta: float, f: tuple[float, float]) -> QTra
     return t
 
 
+@qt_safe
 class _Moving(QGraphicsItem):
     """The per-frame drawing of a :class:`RollingItem` (bars, joints, contacts), above its parts."""
 
@@ -171,7 +173,9 @@ class RollingItem(_Container):
             return
         fr = res.frames
         lc, sc = el.lever_circle, el.slider_circle
-        depth = 0.12 * max(lc.radius, sc.radius)
+        law = sc is None   # a slider law: the lever's pair-E element is the derived curve Π30
+        depth = 0.12 * (lc.radius if law else max(lc.radius, sc.radius))
+        lever_side = el.pin if law else sc.center
         # the frame: profile and its body (away from the lever circle's centre in the drawn pose)
         self.paths["frame_body"] = _path_item(polyline_path(body_behind(res.frame_profile, lc.center, depth), True),
                                               self, FRAME_FILL, FRAME_FILL, 0.5, 0.5, "frame_body")
@@ -191,7 +195,7 @@ class RollingItem(_Container):
         guide.moveTo(*a)
         guide.lineTo(*b)
         self.paths["guide"] = _path_item(guide, self, None, MUTED, 1.0, 0.8, "guide", Qt.PenStyle.DashDotLine)
-        sbody = body_behind(res.slider_profile, sc.center, depth)
+        sbody = body_behind(res.slider_profile, lever_side, depth)
         self.paths["slider_body"] = _path_item(polyline_path(sbody, True), self.slider, SLIDER_FILL, SLIDER_FILL,
                                                0.5, 0.0, "slider_body")
         self.paths["slider_profile"] = _path_item(polyline_path(res.slider_profile), self.slider, None,
@@ -199,8 +203,9 @@ class RollingItem(_Container):
         # the lever in its own frame: plate, dashed circles, working arcs, holes
         (u1a, u1b), (u2a, u2b) = res.lever_arc, res.slider_arc
         t1, t2 = np.linspace(u1a, u1b, 60), np.linspace(u2a, u2b, 60)
-        pts = [np.asarray(lc.center) + lc.radius * np.stack([np.cos(t1), np.sin(t1)], axis=-1),
-               np.asarray(sc.center) + sc.radius * np.stack([np.cos(t2), np.sin(t2)], axis=-1),
+        pair_e = (res.lever_profile_e if law else
+                  np.asarray(sc.center) + sc.radius * np.stack([np.cos(t2), np.sin(t2)], axis=-1))
+        pts = [np.asarray(lc.center) + lc.radius * np.stack([np.cos(t1), np.sin(t1)], axis=-1), pair_e,
                np.asarray([el.pin])]
         if el.drive is not None:
             pts.append(np.asarray([el.drive.coupler_point]))
@@ -213,13 +218,14 @@ class RollingItem(_Container):
         self.paths["lever_plate"] = _path_item(plate, self.lever, LEVER_FILL, LINK_EDGE, 1.2, 0.0, "lever_plate")
         circles = QPainterPath()
         circles.addEllipse(QPointF(*lc.center), lc.radius, lc.radius)
-        circles.addEllipse(QPointF(*sc.center), sc.radius, sc.radius)
+        if not law:
+            circles.addEllipse(QPointF(*sc.center), sc.radius, sc.radius)
         self.paths["lever_circles"] = _path_item(circles, self.lever, None, LINK_EDGE, 0.8, 0.5, "lever_circles",
                                                  Qt.PenStyle.DashLine)
         self.paths["lever_arc"] = _path_item(arc_path(lc.center, lc.radius, u1a, u1b), self.lever, None, ARC, 3.2,
                                              1.0, "lever_arc")
-        self.paths["slider_arc"] = _path_item(arc_path(sc.center, sc.radius, u2a, u2b), self.lever, None,
-                                              SLIDER_EDGE, 3.2, 1.0, "slider_arc")
+        e_path = polyline_path(res.lever_profile_e) if law else arc_path(sc.center, sc.radius, u2a, u2b)
+        self.paths["slider_arc"] = _path_item(e_path, self.lever, None, SLIDER_EDGE, 3.2, 1.0, "slider_arc")
         self._ticks(res, depth)
         # extent over the whole cycle: every moving point, the lever plate at each end of the stroke
         moving = [fr.F, fr.P, fr.P0, res.frame_profile, res.bicentrode, np.asarray([el.rocker_pivot, a, b])]
@@ -255,11 +261,15 @@ class RollingItem(_Container):
             d = np.stack([np.cos(u), np.sin(u)], axis=-1)
             return np.asarray(centre) + radius * d, d
 
+        if el.slider_circle is not None:
+            e_marks = radial(el.slider_circle.center, el.slider_circle.radius, syn.u2)
+        else:   # a slider law: marks on the lever element Π30 at the same samples
+            lev = syn.lever_e_points
+            e_marks = (lev, _normals(lev))
         specs = (("frame_ticks", self, np.asarray(syn.P), _normals(np.asarray(syn.P)), FRAME_EDGE),
                  ("lever_ticks", self.lever, *radial(el.lever_circle.center, el.lever_circle.radius, syn.u1), ARC),
                  ("slider_ticks", self.slider, np.asarray(syn.Q), _normals(np.asarray(syn.Q)), SLIDER_EDGE),
-                 ("slider_arc_ticks", self.lever, *radial(el.slider_circle.center, el.slider_circle.radius, syn.u2),
-                  SLIDER_EDGE))
+                 ("slider_arc_ticks", self.lever, *e_marks, SLIDER_EDGE))
         for name, parent, pts, normals, colour in specs:
             self.paths[name] = _path_item(marks(pts, normals), parent, None, colour, 1.6, 1.2, name)
 
@@ -322,9 +332,17 @@ class RollingItem(_Container):
             painter.drawEllipse(QPointF(*j), r, r)
         if fr.u1 is not None:   # the contact as a point of the lever (its circles), carried by the lever
             lt = self.lever.transform()
-            for centre, radius, u in ((el.lever_circle.center, el.lever_circle.radius, fr.u1[k]),
-                                      (el.slider_circle.center, el.slider_circle.radius, fr.u2[k])):
-                q = lt.map(QPointF(centre[0] + radius * math.cos(u), centre[1] + radius * math.sin(u)))
+            lc, sc = el.lever_circle, el.slider_circle
+            on_lever = [(lc.center[0] + lc.radius * math.cos(fr.u1[k]), lc.center[1] + lc.radius * math.sin(fr.u1[k]))]
+            if sc is not None:
+                on_lever.append((sc.center[0] + sc.radius * math.cos(fr.u2[k]),
+                                 sc.center[1] + sc.radius * math.sin(fr.u2[k])))
+            else:   # the contact on the lever element Π30: P0 carried back into the lever frame
+                d = fr.P0[k] - fr.F[k]
+                c, s_ = math.cos(-fr.theta[k]), math.sin(-fr.theta[k])
+                on_lever.append((el.pin[0] + c * d[0] - s_ * d[1], el.pin[1] + s_ * d[0] + c * d[1]))
+            for x, y in on_lever:
+                q = lt.map(QPointF(x, y))
                 painter.setPen(_pen(CONTACT, 2.0))
                 painter.setBrush(Qt.BrushStyle.NoBrush)
                 painter.drawEllipse(q, 6.5 * px, 6.5 * px)

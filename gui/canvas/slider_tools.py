@@ -71,8 +71,11 @@ class _GuideTool(Tool):
         self._el: str | None = None
         self._guides: list[tuple[str, XY]] = []
 
+    def refers_to(self) -> set[str]:
+        return super().refers_to() | ({self._el} if self._el is not None else set())
+
     def picks(self) -> list[Hit]:
-        if self._el is None or self._el not in self.ctx.controller.scene.ids:
+        if self._el is None or not self.ctx.has_linkage(self._el):
             return []
         lk = self.ctx.linkage(self._el)
         return [Hit(self._el, "link", g) for g, _ in self._guides if g != lk.ground]
@@ -109,6 +112,12 @@ class PRPTool(_GuideTool):
     def reset(self) -> None:
         super().reset()
         self._pin: XY | None = None
+
+    def anchor(self) -> XY | None:
+        """The pin is placed along guide 1 from its start; guide 2's start from the pin."""
+        if self._pin is not None:
+            return self._pin
+        return self._guides[0][1] if self._guides else None
 
     def _why(self, g2: tuple[str, XY]) -> str | None:
         (g1, a), (g2id, b) = self._guides[0], g2

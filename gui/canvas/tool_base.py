@@ -47,9 +47,15 @@ class ToolContext:
     def linkage(self, element_id: str) -> Linkage:
         return self.controller.scene.element(element_id)
 
+    def has_linkage(self, element_id: str) -> bool:
+        """``element_id`` is a linkage of the document (not gone, not an element of another kind
+        that took its id)."""
+        scene = self.controller.scene
+        return element_id in scene.ids and isinstance(scene.element(element_id), Linkage)
+
     def exists(self, hit: Hit) -> bool:
         """The joint or link ``hit`` is still in the document."""
-        if hit.element not in self.controller.scene.ids:
+        if not self.has_linkage(hit.element):
             return False
         lk = self.linkage(hit.element)
         return hit.id in (lk.joint_ids if hit.kind == "joint" else lk.link_ids)
@@ -166,14 +172,38 @@ class Tool:
         self._said = None
 
     def handle(self, ev: CanvasEvent) -> None:
-        if any(not self.ctx.exists(h) for h in self.picks()):
-            self.reset()
-            self.explain(f"{self.title}: a picked joint is gone (undone or deleted); start again")
+        """Dispatch ``ev``; a half-done placement whose joints or linkage are gone starts again
+        first (checked here, on every event, whatever signal may have been missed)."""
+        why = self.stale()
+        if why:
+            self.cancel()
+            self.explain(f"{self.title}: {why}; start again")
         getattr(self, f"on_{ev.kind}")(ev)
 
     def picks(self) -> list[Hit]:
-        """Joints this tool has picked and still refers to."""
+        """Joints (and links) this tool has picked and still refers to."""
         return []
+
+    def refers_to(self) -> set[str]:
+        """The linkages this tool's half-done work refers to (empty when it holds nothing)."""
+        return {h.element for h in self.picks()}
+
+    def stale(self) -> str | None:
+        """Why the half-done work cannot go on (a linkage or a picked joint is gone), or None."""
+        if any(not self.ctx.has_linkage(e) for e in self.refers_to()):
+            return "the linkage it was placing on is gone (undone, deleted or another document)"
+        if any(not self.ctx.exists(h) for h in self.picks()):
+            return "a picked joint is gone (undone or deleted)"
+        return None
+
+    def forget(self, gone: set[str] | frozenset[str] | None = None) -> bool:
+        """Drop the half-done work if it refers to an element in ``gone`` (None: the whole
+        document was replaced, so everything goes). True if the tool started again."""
+        if gone is None or self.refers_to() & set(gone):
+            self.cancel()
+            self._said = None
+            return True
+        return False
 
     def on_press(self, ev: CanvasEvent) -> None:
         pass
@@ -190,6 +220,11 @@ class Tool:
     def key(self, text: str) -> bool:
         """A key typed on the canvas (its text, e.g. "6"); True if the tool used it."""
         return False
+
+    def anchor(self) -> XY | None:
+        """The point the next one is measured from (typed length and angle, Shift-snapping), if
+        the tool has one."""
+        return None
 
     # -- helpers ----------------------------------------------------------------------------
     def _joint_hit(self, ev: CanvasEvent, revolute: bool = True) -> Hit | None:

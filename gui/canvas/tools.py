@@ -59,6 +59,15 @@ class SelectTool(Tool):
     def busy(self) -> bool:
         return self._dragging and self._mode in ("joint", "link", "input")
 
+    def refers_to(self) -> set[str]:
+        h = self._press.hit if self._press is not None else None
+        return {h.element} if h is not None else set()
+
+    def stale(self) -> str | None:
+        if self._dragging and self._mode in ("joint", "link") and not self.ctx.controller.workspace.previewing:
+            return "the drag was interrupted (an edit, undo or another document)"
+        return super().stale()
+
     def cancel(self) -> None:
         if self._dragging and self._mode in ("joint", "link"):
             self.ctx.controller.end_preview(None)
@@ -276,6 +285,9 @@ class MeasureTool(Tool):
         super().reset()
         self._a: XY | None = None
         self._b: XY | None = None
+
+    def anchor(self) -> XY | None:
+        return self._a if self._a is not None and self._b is None else None
 
     def _point(self, ev: CanvasEvent) -> XY:
         h = ev.hit

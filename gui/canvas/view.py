@@ -29,23 +29,28 @@ from PySide6.QtWidgets import QGraphicsScene, QGraphicsView, QWidget
 
 from mechsketch.core.model.edits import RemoveElement
 from mechsketch.core.model.linkage import JointKind, Linkage
-from mechsketch.core.workspace import GenevaResult
+from mechsketch.core.workspace import ElementChange, GenevaResult
 
 from ..selection import ELEMENT
 from ..frames import map_frame
 from .events import XY, CanvasEvent, Hit
 from .extras import CanvasExtras
+from .gear_items import element_item as gear_item
 from .geneva_items import GenevaItem
 from .grid import (BACKGROUND, GRID_AXES, GRID_MAJOR, GRID_MIN_PX, GRID_MINOR,  # noqa: F401 - re-exported
                    grid_steps, paint_grid, paint_scale_bar)
 from .items import DeadPointItem, LinkageItem, OverlayItem, TraceItem
 from .rolling_items import RollingItem
 from .toolbox import ToolBox
+from .typed_input import TypedBox
 from .tools import ToolContext, delete_selection
+from .underlay_item import UnderlayLayer   # underlays (issue 22 item 6)
+from .design_layer import DesignLayer      # the Study and Design docks' band, target and preview
 from .view_input import PICK_PX, CanvasInput  # noqa: F401 - PICK_PX re-exported
+from ..qtsafe import qt_safe
 
-SCALE_RANGE = (0.02, 400.0)   # pixels per millimetre
-WORLD = 1.0e5                 # the scene spans +-WORLD mm
+SCALE_RANGE = (0.02, 400.0)   # pixels per millimetre; zooming out goes further for a larger scene
+WORLD = 1.0e5                 # the scene spans +-WORLD mm, or more for a larger mechanism
 
 
 def default_traced(linkage: Linkage) -> set[str]:
@@ -81,6 +86,7 @@ class _ElementItems:
         return (self.linkage, self.trace, self.dead)
 
 
+@qt_safe
 class CanvasView(QGraphicsView):
     """The mechanism canvas. See the module docstring for embedding.
 
@@ -106,6 +112,8 @@ class CanvasView(QGraphicsView):
         self._scene.setSceneRect(-WORLD, -WORLD, 2 * WORLD, 2 * WORLD)
         self._scene.setItemIndexMethod(QGraphicsScene.ItemIndexMethod.NoIndex)
         self.setScene(self._scene)
+        self.underlays = UnderlayLayer(self._scene)   # drawings and pictures under everything, snapped to
+        self.design_layer = DesignLayer(self._scene, self)   # tolerance band, synthesis target, preview
         self._items: dict[str, _ElementItems] = {}
         #: Geneva drives and rolling levers: one item each, rebuilt when their result changes
         self.element_items: dict[str, GenevaItem | RollingItem] = {}
@@ -113,6 +121,7 @@ class CanvasView(QGraphicsView):
         self._trace_override: dict[tuple[str, str], bool] = {}
         self._key: tuple | None = None
         self._fit_pending = False   # a replaced document is fitted at its first sync
+        self._new: list[str] = []   # elements added by the last change (brought into view)
         self._snap = True
         self.fixed_snap_step = 0.0   # mm; > 0: snap to this step instead of the grid's (Preferences)
         self._fitted = False
@@ -131,13 +140,19 @@ class CanvasView(QGraphicsView):
         self.setCursor(Qt.CursorShape.ArrowCursor)
         self._make_actions()
 
-        controller.changed.connect(self._sync)
         controller.documentReplaced.connect(self._on_replaced)
+        controller.changed.connect(self._forget_removed)
+        controller.changed.connect(self._sync)
+        controller.previewInterrupted.connect(self.cancel_tool)
         controller.frameChanged.connect(self._on_frame)
         controller.selectionChanged.connect(self._highlight)
         self._sync()
         #: handles of selected Geneva drives / rolling levers, View overlays, centrodes (extras.py)
         self.extras = CanvasExtras(self)
+        #: the inline box for typed coordinates, length and angle (typed_input.py)
+        self.typed = TypedBox(self)
+        self.typed.placed.connect(self._input.place_typed)
+        self.typed.closed.connect(self.setFocus)
 
     # -- actions ------------------------------------------------------------------------------
     def _make_actions(self) -> None:
@@ -238,6 +253,9 @@ class CanvasView(QGraphicsView):
             return raw
         if hit is not None and hit.kind == "joint" and not self.toolbox.tool.busy:
             return self.ctx.at(hit.element, hit.id)
+        near = self.underlays.snap(raw, PICK_PX * self.px())   # a vertex of a visible underlay
+        if near is not None:
+            return near
         s = self.snap_step()
         return (round(raw[0] / s) * s + 0.0, round(raw[1] / s) * s + 0.0)
 
@@ -271,8 +289,20 @@ class CanvasView(QGraphicsView):
         self.controller.message.emit(f"tracing {names}" if on else f"not tracing {names}")
 
     def _on_replaced(self) -> None:
-        """A different document (New, Open, restore): fit it once its items exist."""
+        """A different document (New, Open, restore): every tool starts again (the select tool
+        active), and the view fits the document once its items exist."""
+        self._input.forget(None)
+        self.toolbox.set_tool("select")
         self._fit_pending = True
+
+    def _forget_removed(self, change) -> None:
+        """Tools and drags that refer to a removed element start again; a Geneva drive or rolling
+        lever just added is brought into view (after the items are made: see _sync)."""
+        gone = {eid for eid, how in change.elements if how is ElementChange.REMOVED}
+        if gone and not change.replaced:
+            self._input.forget(gone)
+        if not change.replaced and not change.preview:
+            self._new = [eid for eid, how in change.elements if how is ElementChange.ADDED]
 
     def _sync(self, *_args) -> None:
         """Rebuild items after the document or its solutions changed (cheap when nothing did)."""
@@ -286,6 +316,7 @@ class CanvasView(QGraphicsView):
                 and len(old[2]) == len(key[2]) and all(a[1] is b[1] for a, b in zip(old[2], key[2]))):
             return
         self._key = key
+        self.underlays.sync(ctl.scene)
         self._sync_elements()
         poses = self.ctx.poses()
         live = {p.element for p in poses}
@@ -309,6 +340,9 @@ class CanvasView(QGraphicsView):
             items.trace.set_data(pose, list(traced))
             items.dead.set_data(pose)   # during a drag: at the samples' resolution, refined on release
         self._highlight()
+        new, self._new = self._new, []
+        if new and self.isVisible() and not self._fit_pending:
+            self.show_new(new)
         if self._fit_pending:
             self._fit_pending = False
             if self.isVisible():
@@ -323,7 +357,7 @@ class CanvasView(QGraphicsView):
         px = self.px()
         for eid, res in results.items():
             if eid not in self.element_items:
-                item = GenevaItem(res) if isinstance(res, GenevaResult) else RollingItem(res)
+                item = gear_item(res) or (GenevaItem(res) if isinstance(res, GenevaResult) else RollingItem(res))
                 item.set_px(px)
                 self._scene.addItem(item)
                 self.element_items[eid] = item
@@ -373,7 +407,7 @@ class CanvasView(QGraphicsView):
                 rect = rect.united(QRectF(min(xs), min(ys), max(xs) - min(xs), max(ys) - min(ys)))
         for item in self.element_items.values():
             rect = rect.united(item.extent())
-        return rect
+        return rect.united(self.underlays.extent()).united(self.design_layer.extent())
 
     def zoom_to_fit(self, quiet: bool = False) -> None:
         """Show the whole mechanism (its motion included) with a margin."""
@@ -385,20 +419,54 @@ class CanvasView(QGraphicsView):
                                         0.08 * rect.width() + 15, 0.08 * rect.height() + 15))
         self._fitted = True
 
+    def scale_range(self) -> tuple[float, float]:
+        """(least, greatest) zoom in pixels per mm: zooming out reaches a third of the whole
+        scene's fit (a 160 m mechanism is seen whole), never less than ``SCALE_RANGE``."""
+        ext = self.extent()
+        vp = self.viewport().rect()
+        if ext.isNull() or ext.width() <= 0 and ext.height() <= 0:
+            return SCALE_RANGE
+        fit = min(vp.width() / max(ext.width(), 1e-9), vp.height() / max(ext.height(), 1e-9))
+        return min(SCALE_RANGE[0], fit / 3.0), SCALE_RANGE[1]
+
+    def _grow_world(self, rect: QRectF) -> None:
+        """The scene rect covers ``rect`` with room around it (the view can be panned there)."""
+        need = rect.adjusted(-rect.width(), -rect.height(), rect.width(), rect.height())
+        if not self._scene.sceneRect().contains(need):
+            self._scene.setSceneRect(self._scene.sceneRect().united(need))
+
     def zoom_to_rect(self, rect: QRectF) -> None:
         """Fit ``rect`` (mm) in the viewport, keeping y up and equal scales."""
         vp = self.viewport().rect()
+        self._grow_world(rect)
         s = min(vp.width() / max(rect.width(), 1e-9), vp.height() / max(rect.height(), 1e-9))
-        s = min(max(s, SCALE_RANGE[0]), SCALE_RANGE[1])
+        lo, hi = self.scale_range()
+        s = min(max(s, min(lo, s)), hi)
         self.setTransform(QTransform(s, 0, 0, -s, 0, 0))
         self.centerOn(rect.center())
         self._zoomed()
 
     def zoom_by(self, factor: float) -> None:
         s = abs(self.transform().m11())
-        factor = min(max(factor, SCALE_RANGE[0] / s), SCALE_RANGE[1] / s)
+        lo, hi = self.scale_range()
+        factor = min(max(factor, min(lo, s) / s), hi / s)
         self.scale(factor, factor)
         self._zoomed()
+
+    def show_new(self, element_ids) -> None:
+        """Elements just added (a placement, an insert): if one is not wholly in view, the view
+        fits what it showed and the new elements."""
+        shown = self.mapToScene(self.viewport().rect()).boundingRect()
+        rect = QRectF()
+        for eid in element_ids:
+            item = self.element_items.get(eid)
+            if item is not None:
+                rect = rect.united(item.extent())
+        if rect.isNull() or shown.contains(rect):
+            return
+        both = shown.united(rect)
+        self.zoom_to_rect(both.adjusted(-0.05 * both.width(), -0.05 * both.height(),
+                                        0.05 * both.width(), 0.05 * both.height()))
 
     def _zoomed(self) -> None:
         px = self.px()
@@ -408,6 +476,7 @@ class CanvasView(QGraphicsView):
         for item in self.element_items.values():
             item.set_px(px)
         self._overlay.set_px(px)
+        self.design_layer.set_px(px)
         if hasattr(self, "extras"):
             self.extras.set_px(px)
         self.viewport().update()

@@ -20,6 +20,7 @@ from PySide6.QtWidgets import QScrollBar
 from ..selection import ELEMENT
 from .events import XY, CanvasEvent, Hit
 from .items import OverlayItem
+from .typed_input import STARTS, snap_polar
 
 
 class InputHost(Protocol):
@@ -97,8 +98,11 @@ class CanvasInput:
         modifiers = frozenset(n for m, n in ((Qt.KeyboardModifier.ShiftModifier, "shift"),
                                              (Qt.KeyboardModifier.ControlModifier, "ctrl"),
                                              (Qt.KeyboardModifier.AltModifier, "alt")) if mods & m)
-        return CanvasEvent(kind, view.snap(raw, hit), raw, names.get(e.button(), "none"), held, modifiers,
-                           hit, tol)
+        pos = view.snap(raw, hit)
+        anchor = view.toolbox.tool.anchor() if "shift" in modifiers and view.toolbox.name != "select" else None
+        if anchor is not None:   # Shift: 15° steps and whole grid steps from the tool's anchor
+            pos = snap_polar(anchor, raw, view.snap_step())
+        return CanvasEvent(kind, pos, raw, names.get(e.button(), "none"), held, modifiers, hit, tol)
 
     def dispatch(self, ev: CanvasEvent) -> None:
         """Hand ``ev`` to the active tool and show the result."""
@@ -184,6 +188,22 @@ class CanvasInput:
             view.dragFinished.emit()
             self._show_frame()
 
+    def forget(self, gone: set[str] | frozenset[str] | None = None) -> None:
+        """Elements ``gone`` were removed (None: the document was replaced): every tool, handle
+        and load drag that refers to one of them starts again, and a drag ends."""
+        view = self._view
+        for tool in view.toolbox.tools.values():
+            tool.forget(gone)
+        view.extras.handles.forget(gone)
+        view.extras.loads.forget(gone)
+        if self.hover is not None and (gone is None or self.hover.element in gone):
+            self.hover = None
+        self._overlay.set_overlay(view.toolbox.tool.overlay())
+        if self._busy and not (view.toolbox.tool.busy or view.extras.handles.busy or view.extras.loads.busy):
+            self._busy = False
+            view.dragFinished.emit()
+            self._show_frame()
+
     def _select_element(self, ev: CanvasEvent) -> bool:
         """With the select tool, a click on a Geneva drive or rolling lever (no joint or link
         under it) selects the element (Shift toggles it); True if the click was taken."""
@@ -219,9 +239,35 @@ class CanvasInput:
                 self._view.setCursor(Qt.CursorShape.OpenHandCursor)
         elif not e.modifiers() and self._view.toolbox.tool.key(e.text()):
             self._overlay.set_overlay(self._view.toolbox.tool.overlay())
+        elif not e.modifiers() and e.text() in STARTS and self.open_typed(e.text()):
+            pass
         else:
             return False
         return True
+
+    # -- typed input (typed_input.py) ---------------------------------------------------------------
+    def open_typed(self, first: str) -> bool:
+        """A number typed while a placing tool is active: open the inline box beside the pointer
+        (True), or not for the select and delete tools (False)."""
+        view = self._view
+        tool = view.toolbox.tool
+        if tool.name in ("select", "delete") or not hasattr(view, "typed"):
+            return False
+        at = view.mapFromGlobal(QCursor.pos())
+        if not view.viewport().rect().contains(at):
+            at = view.viewport().rect().center()
+        start = view.world(QPointF(at))
+        view.typed.open(first, at, tool.anchor(), start)
+        return True
+
+    def place_typed(self, x: float, y: float) -> None:
+        """The typed point: a click there for the active tool (no snapping)."""
+        view = self._view
+        tol = PICK_PX * view.px()
+        hit = view.ctx.pick((x, y), tol)
+        for kind in ("move", "press", "release"):
+            self.dispatch(CanvasEvent(kind, (x, y), (x, y), "left" if kind != "move" else "none",
+                                      frozenset({"left"}) if kind == "press" else frozenset(), frozenset(), hit, tol))
 
     def key_release(self, e: QKeyEvent) -> bool:
         """Space released: a tap (no pan since the press) triggers the tap action; True if taken."""

@@ -105,6 +105,9 @@ class HelpCommands(QObject):
         canvas = getattr(w, "canvas", None)
         toolbox = getattr(canvas, "toolbox", None)
         tool = toolbox.name if toolbox is not None else None
+        underlays = getattr(w, "underlay_commands", None)
+        if underlays is not None and underlays.session is not None:
+            tool = "underlay"                 # placing or moving an underlay reads the canvas's clicks
         under = QApplication.widgetAt(QCursor.pos())
         if under is not None and under.window() is w:
             slug = context_slug(under, docks, canvas, tool)

@@ -31,6 +31,8 @@ DRAW = "readme/drawing-geneva-drives-rolling-levers-and-every-dyad-from-file-new
 GENEVA = "readme/geneva-drives-and-rolling-levers-in-the-app"
 DIMS = "readme/drivers-motion-laws-and-dimensions"
 FORCES = "readme/forces-analyze-forces"
+STUDY = "readme/the-study-dock-tolerances-clearances-optimisation"
+DESIGN = "readme/the-design-dock-synthesis-and-design-from-requirements"
 
 TOOLS: dict[str, Topic] = {
     "select": Topic("Select (S)", "Click a joint, a link or an element to select it; Shift-click adds to the "
@@ -66,6 +68,11 @@ TOOLS: dict[str, Topic] = {
                      "the slider axis. The exact profiles are synthesised.", DRAW, "tool_rolling_placing.png"),
     "insert": Topic("Insert", "Click where the inserted scene's centre goes (Examples › Insert); its ids are "
                     "renamed where they are taken. Esc cancels.", DRAW),
+    "underlay": Topic("Placing an underlay", "Click the first of two points of known distance on the underlay "
+                      "(its vertices snap), then the second, and type the distance between them (in the length "
+                      "unit of the preferences): the underlay is scaled about the first point. Esc keeps it as "
+                      "it is. View › Underlays also moves, hides and removes it.",
+                      "readme/underlays-clipboard-and-dropped-files", "underlay.png"),
 }
 
 DOCKS: dict[str, Topic] = {
@@ -82,6 +89,21 @@ DOCKS: dict[str, Topic] = {
                    "and ε, the transmission angles, and the driving torque, against the input. Gaps are "
                    "poses that cannot be assembled; the dashed cursor follows the animation; click a plot "
                    "to jump there.", APP, "forces_torque.png"),
+    "study": Topic("Study", "Tolerance and pin-clearance Monte Carlo, or optimisation, of a linkage. Tick "
+                   "the variables (the Dimensions table's rows and the frame's pivots) and give each a ± "
+                   "tolerance or a range; give each pin an ISO 286 fit; press **Run** (Ctrl+Enter): it runs "
+                   "on a worker thread with progress and **Cancel**. The band of the traced point is drawn "
+                   "on the canvas (magnified, labelled), with the histogram of the deviation and the "
+                   "sensitivity bars; an optimisation shows its Pareto front: click a point to preview "
+                   "the variant, **Apply** or **Add as new element** (one undo step).", STUDY, "study.png"),
+    "design": Topic("Design", "A linkage from what it must do: a **path** (click points on the canvas, draw "
+                    "it freehand, read a CSV or pick an underlay's polyline), **poses** (press at a point, "
+                    "drag along its angle) or a **function** (input–output pairs). **Design** runs on a "
+                    "worker thread with progress and **Cancel**; the candidates are listed with a "
+                    "thumbnail and their numbers, the chosen one moves on the canvas, **Insert** adds it "
+                    "as an ordinary linkage (one undo step). The Geneva, Rolling lever and Gears pages "
+                    "design those from requirements, with the report and what to relax when refused.",
+                    DESIGN, "design.png"),
 }
 
 #: keys the canvas reads itself (no menu action): (keys, what)

@@ -18,6 +18,7 @@ from mechsketch import resources
 
 from .manual import START, Page, load_pages, search, snippet
 from .topics import DOCKS, TOOLS, shortcuts_page, topic_page
+from ..qtsafe import qt_safe
 
 SCHEME = "manual"
 
@@ -39,6 +40,7 @@ def slug_of(url: QUrl) -> str | None:
     return path[:-3] if path.endswith(".md") else path
 
 
+@qt_safe
 class ManualBrowser(QTextBrowser):
     """A text browser whose ``manual:`` pages and pictures come from memory and the manual folder."""
 
@@ -73,6 +75,7 @@ class ManualBrowser(QTextBrowser):
             if image.width() > width else image
 
 
+@qt_safe
 class HelpWindow(QWidget):
     """The manual in a window of its own: contents (left) with a search field, the page (right),
     Back, Forward and Start. :meth:`show_page` opens a page by slug."""

@@ -17,9 +17,11 @@ from PySide6.QtWidgets import QTextBrowser, QVBoxLayout, QWidget
 
 from mechsketch.core import MechsketchError
 from mechsketch.core.model.linkage import Linkage
+from mechsketch.core.model.underlay import Underlay
 
 from ..controller import SceneController
 from .lazy import LazyRefresh
+from ..qtsafe import qt_safe
 
 
 def diagnostics_lines(controller: SceneController) -> list[tuple[str, str]]:
@@ -59,7 +61,9 @@ def force_lines(controller: SceneController, element_id: str) -> list[tuple[str,
 
 
 def _element_lines(controller: SceneController, el) -> list[tuple[str, str]]:
-    """The summary (or the error) of a Geneva drive or rolling lever."""
+    """The summary (or the error) of a Geneva drive or rolling lever; what an underlay is."""
+    if isinstance(el, Underlay):
+        return underlay_lines(el)
     res = controller.element_result(el.id)
     if res is None:   # a type this version of the app does not solve
         return [("head", f"{el.type} {el.id}"),
@@ -75,6 +79,19 @@ def _element_lines(controller: SceneController, el) -> list[tuple[str, str]]:
     return out
 
 
+def underlay_lines(u: Underlay) -> list[tuple[str, str]]:
+    """An underlay: what it holds, its placement and size (mm), whether it is shown."""
+    x0, y0, x1, y1 = u.world_bounds()
+    pl = u.placement
+    what = (f"picture {u.image.width}×{u.image.height} px" if u.image is not None else
+            f"drawing: {len(u.paths)} paths, {sum(len(p) for p in u.paths):,} points")
+    return [("head", f"underlay {u.id}: {u.name}"), ("", what),
+            ("", f"placed at {pl.scale:.6g} mm per unit, turned {pl.angle_deg:.4g}°: {x1 - x0:.4g} × {y1 - y0:.4g} mm "
+                 f"from ({x0:.4g}, {y0:.4g})"),
+            ("", "shown; its points snap" if u.visible else "hidden (its points do not snap)")]
+
+
+@qt_safe
 class DiagnosticsPanel(LazyRefresh, QWidget):
     """Read-only text of :func:`diagnostics_lines`, refreshed when the solutions change — during a
     drag only on the release (the text needs the full diagnostics and the motion classification,

@@ -51,11 +51,11 @@ def geneva_plot_data(controller: SceneController, res: GenevaResult) -> PlotData
     el = res.element
     kin, con = res.kinematics, res.contact
     if kin is None or con is None:
-        return PlotData(f"geneva {el.id}: {res.error}", rows=GENEVA_ROWS, x_label="crank angle φ (°)")
+        return PlotData(f"geneva {el.id}: {res.error}", rows=GENEVA_ROWS, x_label="crank angle φ (°)", kind="geneva")
     x = np.degrees(kin.phi)
     phi_j, alpha_j = kin.alpha_with_jumps()
     data = PlotData(f"Geneva {el.id}", x, np.ones(len(x), dtype=bool),
-                    rows=GENEVA_ROWS, x_label="crank angle φ (°, from the line of centres)")
+                    rows=GENEVA_ROWS, x_label="crank angle φ (°, from the line of centres)", kind="geneva")
     data.series += [
         Series("angle", "wheel.angle", "°", np.degrees(kin.wheel_angle)),
         Series("omega", "wheel.ω", "rad/s", kin.omega),
@@ -81,10 +81,10 @@ def rolling_plot_data(controller: SceneController, res: RollingResult) -> PlotDa
     el = res.element
     syn = res.synthesis
     if syn is None or res.frames is None:
-        return PlotData(f"rolling lever {el.id}: {res.error}", rows=ROLLING_ROWS, x_label="lever rotation θ (°)")
+        return PlotData(f"rolling lever {el.id}: {res.error}", rows=ROLLING_ROWS, x_label="lever rotation θ (°)", kind="rolling_lever")
     x = np.degrees(syn.theta)
     data = PlotData(f"lever {el.id} ({syn.method})", x,
-                    np.ones(len(x), dtype=bool), rows=ROLLING_ROWS, x_label="lever rotation θ (°)")
+                    np.ones(len(x), dtype=bool), rows=ROLLING_ROWS, x_label="lever rotation θ (°)", kind="rolling_lever")
     data.series += [
         Series("alpha", "α", "°", np.degrees(syn.alpha)),
         Series("k53", "k53", "mm/rad", syn.k53),

@@ -5,7 +5,8 @@ clearances, crank speed (rpm, with ω in rad/s) and turning sense, wheel directi
 samples. Each edit is one undo step through :func:`.element_props.push_changes`: a value the core
 refuses (z = 2, a roller too large for the crank, ...) leaves the document as it was and the
 core's message in the status bar. Read-only: crank radius r = A·sin(π/z), the wheel's outer radius
-R_o, slot width and depth, the relief radius drawn, the period.
+R_o, slot width and depth, the relief radius drawn, the period, and whether the contact model is
+within its validity range (the summary's words).
 """
 from __future__ import annotations
 
@@ -13,6 +14,7 @@ import math
 
 from PySide6.QtWidgets import QFormLayout, QGroupBox, QLabel
 
+from mechsketch.core.analyses.geneva.contact import GenevaContact
 from mechsketch.core.errors import EditError
 from mechsketch.core.model.geneva import Geneva
 
@@ -30,6 +32,18 @@ CLEARANCES = (
     ("clearance.bottom", "bottom", "mm", "below the deepest roller position"),
     ("clearance.lock", "lock", "mm", "locking disc to the wheel's locking arcs"),
 )
+
+
+def contact_text(con: GenevaContact) -> str:
+    """The contact model's validity in one line: within its range (and the margin), or how many
+    engaged rows lie outside it and what is then not computed (the summary's words)."""
+    v = con.validity
+    if v.ok:
+        return (f"valid: peak Rn {v.rn_peak:.4g} N ≤ {v.rn_limit:.4g} N (Δ ≤ {v.deformation_limit:g}·r_p, "
+                f"b ≤ {v.half_width_limit:g}·r_p and ·l); L_s {con.slip_path_total * 1e3:.4g} µm")
+    return (f"outside its validity range at {v.invalid_rows} of {v.engaged_rows} engaged rows (Rn up to "
+            f"{v.rn_peak:.4g} N, limit {v.rn_limit:.4g} N): slip, wear and life not computed; use stiffer "
+            "materials, a longer or larger roller, or a lighter load")
 
 
 def _value(el: Geneva, key: str) -> float:
@@ -106,9 +120,9 @@ def geneva_boxes(panel, element_id: str) -> list[QGroupBox]:
 
     derived = QGroupBox("Derived (read-only)")
     dform = QFormLayout(derived)
-    labels = {k: QLabel() for k in ("r", "Ro", "slot", "relief", "period")}
+    labels = {k: QLabel() for k in ("r", "Ro", "slot", "relief", "period", "contact")}
     for key, text in (("r", "crank r"), ("Ro", "outer R_o"), ("slot", "slot w × d"),
-                      ("relief", "relief"), ("period", "period")):
+                      ("relief", "relief"), ("period", "period"), ("contact", "contact model")):
         labels[key].setWordWrap(True)
         dform.addRow(text, labels[key])
 
@@ -123,5 +137,7 @@ def geneva_boxes(panel, element_id: str) -> list[QGroupBox]:
         labels["relief"].setText(f"{geo.relief.drawn:.3f} mm (the classical R_o interferes)" if geo is not None
                                  else "—")
         labels["period"].setText(f"{60.0 / abs(e.speed_rpm):.4g} s / crank turn")
+        con = res.contact if isinstance(res, GenevaResult) else None
+        labels["contact"].setText(contact_text(con) if con is not None else "—")
     panel.add_refresher(show_derived)
     return [box, clearances, placement, derived]

@@ -34,8 +34,6 @@ from .. import units
 #: the laws offered in the driver box (a table law comes from a file or the Python API)
 LAWS = (("constant speed", LawKind.CONSTANT), ("cycloidal", LawKind.CYCLOIDAL), ("harmonic", LawKind.HARMONIC),
         ("modified trapezoid", LawKind.MODIFIED_TRAPEZOID))
-#: table rows shown before the dimension table scrolls
-TABLE_ROWS = 8
 
 
 def field_name(key: str) -> str:
@@ -76,8 +74,11 @@ def dimensions_box(panel, eid: str) -> QGroupBox:
     table.setHorizontalHeaderLabels(["link", "dimension", "value", "unit"])
     table.verticalHeader().setVisible(False)
     head = table.horizontalHeader()
-    head.setSectionResizeMode(QHeaderView.ResizeMode.ResizeToContents)
-    head.setSectionResizeMode(2, QHeaderView.ResizeMode.Stretch)
+    head.setSectionResizeMode(QHeaderView.ResizeMode.ResizeToContents)   # values are read whole,
+    head.setSectionResizeMode(1, QHeaderView.ResizeMode.Stretch)         # a long label is elided
+    table.setTextElideMode(Qt.TextElideMode.ElideMiddle)
+    table.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)   # every row shown:
+    table.setVerticalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)     # the panel scrolls
     table.setSelectionMode(QAbstractItemView.SelectionMode.SingleSelection)
     table.setEditTriggers(QAbstractItemView.EditTrigger.DoubleClicked | QAbstractItemView.EditTrigger.EditKeyPressed
                           | QAbstractItemView.EditTrigger.AnyKeyPressed)
@@ -96,6 +97,7 @@ def dimensions_box(panel, eid: str) -> QGroupBox:
             for r, d in enumerate(rows):
                 for c, text in ((0, d.link), (1, d.label), (3, units.display_unit(d.unit))):
                     item = QTableWidgetItem(text)
+                    item.setToolTip(text)
                     item.setFlags(item.flags() & ~Qt.ItemFlag.ItemIsEditable)
                     table.setItem(r, c, item)
                 item = QTableWidgetItem()
@@ -105,8 +107,7 @@ def dimensions_box(panel, eid: str) -> QGroupBox:
         for r, d in enumerate(rows):
             table.item(r, 2).setText(units.format_value(d.value, d.unit))   # in the display unit
         table.blockSignals(False)
-        visible = min(len(rows), TABLE_ROWS)
-        table.setFixedHeight(head.height() + 4 + sum(table.rowHeight(r) for r in range(visible)))
+        table.setFixedHeight(head.height() + 4 + sum(table.rowHeight(r) for r in range(len(rows))))
 
     def edited(item: QTableWidgetItem) -> None:
         if item.column() != 2:

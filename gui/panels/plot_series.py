@@ -48,6 +48,9 @@ class PlotData:
     frame_x: np.ndarray | None = None
     #: the table "Export plot data as CSV" writes, when not the plotted columns
     make_table: Callable[[], Table] | None = None
+    #: the kind of element plotted ("linkage", "geneva", "rolling_lever"): which plots the user
+    #: chose to see is remembered per kind
+    kind: str = "linkage"
 
     def table(self) -> Table:
         """The plotted data as a table: ``input_deg`` (``input_mm`` for an actuator) then one

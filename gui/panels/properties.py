@@ -17,7 +17,8 @@ import math
 from dataclasses import replace
 from typing import Callable
 
-from PySide6.QtCore import Qt
+from PySide6.QtCore import Qt, Signal
+from PySide6.QtGui import QKeyEvent
 from PySide6.QtWidgets import (QComboBox, QFormLayout, QFrame, QGroupBox, QHBoxLayout, QLabel, QLineEdit,
                                QScrollArea, QToolButton, QVBoxLayout, QWidget)
 
@@ -28,11 +29,13 @@ from .. import units
 from ..controller import SceneController
 from ..selection import ELEMENT, element_target
 from mechsketch.core.solver.flip import FLIPPABLE, flip_edit
+from .gears_panel import gears_boxes
 from .geneva_panel import geneva_boxes
 from .lazy import defer_preview
 from .linkage_dims import dimensions_box, drive_button, driver_box, link_dimension_rows
 from .loads_panel import joint_friction_row, link_mass_rows, loads_box
 from .rolling_panel import rolling_boxes
+from ..qtsafe import qt_safe
 
 Selection = tuple[str, str, str]
 
@@ -42,8 +45,14 @@ def fmt(value: float) -> str:
     return f"{value:.6f}".rstrip("0").rstrip(".") if math.isfinite(value) else "nan"
 
 
+@qt_safe
 class PropertiesPanel(QWidget):
-    """Edits of the selection and of its linkage, as undo commands through the controller."""
+    """Edits of the selection and of its linkage, as undo commands through the controller.
+
+    ``editingDone`` is emitted when Enter has committed a field (the window gives the keyboard
+    back to the canvas)."""
+
+    editingDone = Signal()
 
     def __init__(self, controller: SceneController, parent: QWidget | None = None) -> None:
         super().__init__(parent)
@@ -56,7 +65,9 @@ class PropertiesPanel(QWidget):
         self._content_layout.setContentsMargins(0, 0, 0, 0)
         scroll = QScrollArea()
         scroll.setWidgetResizable(True)
-        scroll.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAsNeeded)   # never hide a control
+        # the content fits the dock's width (form rows wrap their field under the label when
+        # narrow): one vertical scroll bar, never a sideways one (issue 24, item 5)
+        scroll.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
         scroll.setFrameShape(QFrame.Shape.NoFrame)
         scroll.setWidget(self._content)
         layout = QVBoxLayout(self)
@@ -75,6 +86,14 @@ class PropertiesPanel(QWidget):
         controller.changed.connect(self._on_changed)
         controller.selectionChanged.connect(self.refresh)
         self.refresh()
+
+    def keyPressEvent(self, event: QKeyEvent) -> None:  # noqa: N802 - Qt override
+        """Enter in a field has committed it (a line edit passes Enter on): editing is done."""
+        if event.key() in (Qt.Key.Key_Return, Qt.Key.Key_Enter):
+            event.accept()
+            self.editingDone.emit()
+            return
+        super().keyPressEvent(event)
 
     def units_changed(self) -> None:
         """The display units changed (Edit › Preferences): rebuild, so labels and values follow."""
@@ -139,7 +158,8 @@ class PropertiesPanel(QWidget):
         for lk in self.controller.linkages():
             items += [(f"{lk.id}: joint {j}", (lk.id, "joint", j)) for j in lk.joint_ids]
             items += [(f"{lk.id}: link {k}", (lk.id, "link", k)) for k in lk.link_ids]
-        kinds = {"geneva": "Geneva drive", "rolling_lever": "rolling lever"}
+        kinds = {"geneva": "Geneva drive", "rolling_lever": "rolling lever", "gear_pair": "gear pair",
+                 "geared_geneva": "smooth Geneva drive"}
         solved = self.controller.element_results()
         items += [(f"{e.id}: {kinds[e.type]}", (e.id, ELEMENT, e.id))
                   for e in self.controller.scene.elements if e.type in kinds and e.id in solved]
@@ -170,12 +190,17 @@ class PropertiesPanel(QWidget):
         self._refreshers.clear()
         while self._content_layout.count():
             item = self._content_layout.takeAt(0)
-            if item.widget() is not None:
-                item.widget().deleteLater()
+            old = item.widget()
+            if old is not None:   # silenced first: a focused field losing its focus as it goes
+                for w in [old, *old.findChildren(QWidget)]:   # must not commit into another document
+                    w.blockSignals(True)
+                old.hide()
+                old.deleteLater()
         lk = self.linkage()
         eid = element_target(self.controller)
         if eid is not None:
-            build = geneva_boxes if self.controller.scene.element(eid).type == "geneva" else rolling_boxes
+            kind = self.controller.scene.element(eid).type
+            build = {"geneva": geneva_boxes, "gear_pair": gears_boxes, "geared_geneva": gears_boxes}.get(kind, rolling_boxes)
             for box in build(self, eid):
                 self._content_layout.addWidget(box)
         elif lk is None:
@@ -195,6 +220,18 @@ class PropertiesPanel(QWidget):
             self._content_layout.addWidget(dimensions_box(self, lk.id))
             self._content_layout.addWidget(loads_box(self, lk.id))
         self._content_layout.addStretch(1)
+        self._fit_width()
+
+    def _fit_width(self) -> None:
+        """Let every row shrink to the dock's width: form rows put their field under the label
+        when narrow, texts wrap, combo boxes elide their longest choice (issue 24, item 5)."""
+        for form in self._content.findChildren(QFormLayout):
+            form.setRowWrapPolicy(QFormLayout.RowWrapPolicy.WrapLongRows)
+        for label in self._content.findChildren(QLabel):
+            label.setWordWrap(True)
+        for box in self._content.findChildren(QComboBox):
+            box.setSizeAdjustPolicy(QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
+            box.setMinimumContentsLength(8)
 
     def _elements_box(self) -> QGroupBox:
         box = QGroupBox("Scene")

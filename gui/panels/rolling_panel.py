@@ -78,12 +78,20 @@ def rolling_boxes(panel, element_id: str) -> list[QGroupBox]:
     number(rform, "rocker_pivot.0", "pivot G x", "mm", "rocker pivot", "the rocker's ground pivot")
     number(rform, "rocker_pivot.1", "pivot G y", "mm", "rocker pivot")
 
-    slider = QGroupBox("Slider circle and axis")
+    law = el().slider_law
+    slider = QGroupBox("Slider circle and axis" if law is None else "Slider law and axis")
     sform = QFormLayout(slider)
-    number(sform, "slider_circle.center.0", "centre x", "mm", "slider circle centre",
-           "centre of the lever's circle rolling on the slider profile (drawn pose)")
-    number(sform, "slider_circle.center.1", "centre y", "mm", "slider circle centre")
-    number(sform, "slider_circle.radius", "radius R2", "mm", "slider circle radius")
+    if law is None:
+        number(sform, "slider_circle.center.0", "centre x", "mm", "slider circle centre",
+               "centre of the lever's circle rolling on the slider profile (drawn pose)")
+        number(sform, "slider_circle.center.1", "centre y", "mm", "slider circle centre")
+        number(sform, "slider_circle.radius", "radius R2", "mm", "slider circle radius")
+    else:   # a prescribed S5(θ): the lever element and the slider profile are derived from it
+        what = (f"table of {len(law.table)} points" if law.kind == "table"
+                else f"{law.kind}, travel {law.travel:g} mm")
+        label = QLabel(f"S5(θ): {what} (the lever element Π30 and the slider profile are its exact centrodes)")
+        label.setWordWrap(True)
+        sform.addRow("law", label)
     number(sform, "slider_axis_deg", "axis", "°", "slider axis", "direction of the slider's motion")
     sform.addRow("side", combo_field(
         panel, "slider_side", [("+1", 1), ("−1", -1)],

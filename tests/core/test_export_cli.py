@@ -59,16 +59,23 @@ def test_export_needs_one_target(tmp_path, capsys):
     capsys.readouterr()
 
 
-@pytest.mark.parametrize("z, a, rp, text", [
-    (6, 100.0, 26.0, "roller_radius"),   # neighbouring slots overlap: refused when loading
-    (16, 100.0, 8.0, "slots"),            # the relief leaves no room for a crank bore: refused by validate
+@pytest.mark.parametrize("z, a, rp, text, analysable", [
+    (6, 100.0, 26.0, "roller_radius", False),  # neighbouring slots overlap: refused when loading
+    (16, 100.0, 8.0, "slots", True),            # no room for a crank bore: analysable, not cuttable
 ])
-def test_validate_refuses_a_drive_that_cannot_be_drawn_naming_the_key(tmp_path, capsys, z, a, rp, text):
+def test_validate_reports_a_drive_that_cannot_be_drawn_naming_the_key(tmp_path, capsys, z, a, rp, text, analysable):
+    """A drive that loads and can be analysed validates (exit 0) with a manufacturability warning
+    naming the key; ``--strict`` makes it an error; the export refuses it either way."""
     doc = {"format": "mechsketch.scene", "schema_version": 1, "units": "mm",
            "elements": [{"type": "geneva", "id": "g", "slots": z, "center_distance": a, "roller_radius": rp}]}
     p = tmp_path / "g.json"
     p.write_text(json.dumps(doc))
     code, out, _ = run(["validate", p], capsys)
+    assert code == (0 if analysable else 1) and text in out
+    assert ("manufacturability warnings" in out) == analysable
+    code, _, _ = run(["analyze", p, "--summary"], capsys)
+    assert code == (0 if analysable else 1)
+    code, out, _ = run(["validate", "--strict", p], capsys)
     assert code == 1 and text in out
     code, _, err = run(["export", p, "--dxf", tmp_path / "g.dxf"], capsys)
     assert code == 1 and text in err and not (tmp_path / "g.dxf").exists()

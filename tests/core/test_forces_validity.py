@@ -175,3 +175,31 @@ def test_forces_valid_is_rates_valid_for_every_loaded_example():
                 assert np.isfinite(v[res.valid]).all() and np.isnan(v[~res.valid]).all()
                 e = res.errors[name]
                 assert np.isfinite(e[res.valid]).all() and (e[res.valid] >= 0).all()
+
+
+def test_rates_valid_without_a_pass_equals_the_full_check(monkeypatch):
+    """``rates_valid`` is ``valid`` with no pass over the samples where the kernels' conditioning
+    floors and the quiet extraction prove it (issue 26: the forces read it every time); it equals
+    the check over every sample, for every example at N = 8, 360 and 3,600 and the s3 repros."""
+    import glob
+
+    from mechsketch.core.solver.solution import Solution
+
+    paths = sorted(glob.glob("resources/examples/*.json")) + [REPRO, "/work/shared/cases/s3/prp_near_parallel_guides.json"]
+    fast_hits = 0
+    for path in paths:
+        ws = Workspace.open(path)
+        for el in ws.scene.elements:
+            if getattr(el, "type", "") != "linkage":
+                continue
+            plan = ws.plan(el.id)
+            for n in (8, 360, 3600):
+                fast = plan.sweep(n, order=2)
+                fast_hits += fast._rates_bounded()
+                got = fast.rates_valid
+                full = plan.sweep(n, order=2)
+                with monkeypatch.context() as m:
+                    m.setattr(Solution, "_rates_bounded", lambda self: False)
+                    want = full.rates_valid
+                assert np.array_equal(got, want), (path, n)
+    assert fast_hits > 10          # the fast path is taken (every well-conditioned example)

@@ -150,21 +150,43 @@ def test_frame_as_a_drilling_pattern_and_dog_bone_links(tmp_path):
 
 
 @pytest.mark.parametrize("style, message", [
-    (LinkageStyle(boss_radius=5.0, bore_diameter=12.0), "--bore-diameter"),
-    (LinkageStyle(boss_radius=5.0, width=14.0), "--link-width"),
-    (LinkageStyle(boss_radius=-1.0), "--boss-radius"),
+    (LinkageStyle(boss_radius=5.0, bore_diameter=12.0), "change drawing.bore_diameter or drawing.boss_radius"),
+    (LinkageStyle(boss_radius=5.0, width=14.0), r"\(drawing.link_width\) is wider"),
+    (LinkageStyle(boss_radius=-1.0), "drawing.boss_radius must be a positive"),
+    (LinkageStyle(block_width=0.0), "drawing.block_width must be a positive"),
     (LinkageStyle(frame="glued"), "frame must be one of plate, drill"),
 ])
-def test_sizes_that_cannot_make_a_plate_are_refused_naming_the_option(style, message):
+def test_sizes_that_cannot_make_a_plate_are_refused_naming_the_key(style, message):
     lk = example("fourbar_crank_rocker")
     with pytest.raises(GeometryError, match=message):
         linkage_parts(lk, compile_plan(lk), style)
 
 
+@pytest.mark.parametrize("options, drawing, message", [
+    (dict(boss_radius=5.0, bore_diameter=12.0), {}, "change --bore-diameter or --boss-radius"),
+    (dict(boss_radius=5.0), {"bore_diameter": 12.0}, "change drawing.bore_diameter or --boss-radius"),
+    ({}, {"boss_radius": 5.0, "bore_diameter": 12.0}, "change drawing.bore_diameter or drawing.boss_radius"),
+    (dict(bore_diameter=40.0), {}, "change --bore-diameter or --boss-radius or drawing.boss_radius"),
+    (dict(link_width=30.0), {"boss_radius": 5.0}, r"\(--link-width\) is wider .* raise drawing.boss_radius"),
+])
+def test_a_size_is_named_where_it_came_from(options, drawing, message):
+    """An export option overrides the drawing block; a message names the flag the user typed, the
+    key of the scene that set it, or (a default) both ways the user can change it."""
+    from dataclasses import replace
+
+    from mechsketch.core.analyses.parts.build import PartOptions, element_parts
+    from mechsketch.core.cli.export_cmds import export_vocabulary
+    from mechsketch.core.model.drawing import LinkageDrawing
+
+    lk = replace(example("fourbar_crank_rocker"), drawing=LinkageDrawing(**drawing))
+    with pytest.raises(GeometryError, match=message):
+        element_parts(lk, PartOptions(**options, vocabulary=export_vocabulary()))
+
+
 def test_a_web_below_the_minimum_is_refused_before_anything_is_written(tmp_path):
     lk = example("fourbar_crank_rocker")
     ps = linkage_parts(lk, compile_plan(lk), LinkageStyle(boss_radius=5.0, bore_diameter=9.6))
-    with pytest.raises(GeometryError, match=r"part 'ground': thinnest web 0.1999 mm.*--boss-radius"):
+    with pytest.raises(GeometryError, match=r"part 'ground': thinnest web 0.2 mm.*drawing.boss_radius"):
         export_parts(ps, tmp_path / "x.dxf", min_web=1.0)
     assert not (tmp_path / "x.dxf").exists()
     export_parts(ps, tmp_path / "x.dxf", min_web=0.1)

@@ -94,7 +94,8 @@ def test_the_papers_construction_gives_a_slider_profile_that_folds_back_and_is_r
 @pytest.mark.parametrize("style, message", [
     (RollingStyle(tolerance=1e-9), "below what is exported faithfully"),
     (RollingStyle(tolerance=float("nan")), "positive number"),
-    (RollingStyle(depth=-3.0), "--depth"),
+    (RollingStyle(depth=-3.0), "the plate depth must be a positive"),
+    (RollingStyle(depth=-3.0, depth_name="--depth"), "--depth must be a positive"),
 ])
 def test_bad_styles_are_refused(style, message):
     with pytest.raises(GeometryError, match=message):

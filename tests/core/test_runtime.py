@@ -55,3 +55,50 @@ def test_no_glibc_is_a_quiet_false(monkeypatch):
     assert runtime.tune_allocator() is False
     assert runtime.tune_allocator() is False
     assert runtime.allocator_tuned() is False
+
+
+# A plain process (no tune_allocator) sweeping the six-bar at N = 36,000 and dropping each solution
+# before the next sweep: minor page faults per sweep, and malloc's separately mapped blocks after
+# the first sweep (issue 26, item 3: glibc trimmed the freed heap and every sweep faulted all its
+# pages in again; solver.memory.reserve lets glibc's dynamic thresholds keep it).
+SWEEPS = r"""
+import ctypes, resource, sys
+from mechsketch.core import Workspace
+plan = Workspace.open(sys.argv[1])["sixbar"].compile()
+faults = []
+for _ in range(5):
+    f0 = resource.getrusage(resource.RUSAGE_SELF).ru_minflt
+    sol = plan.sweep(36000, order=2)
+    sol.acceleration("E")
+    del sol
+    faults.append(resource.getrusage(resource.RUSAGE_SELF).ru_minflt - f0)
+print(" ".join(map(str, faults)))
+"""
+
+
+@pytest.mark.skipif(not (GLIBC and sys.platform.startswith("linux")), reason="glibc only")
+def test_a_plain_process_keeps_a_sweeps_memory_between_sweeps():
+    from mechsketch.resources import example_path
+
+    out = subprocess.run([sys.executable, "-c", SWEEPS, str(example_path("sixbar_moving_guide"))],
+                         capture_output=True, text=True, timeout=120, check=True).stdout.split()
+    faults = [int(x) for x in out]
+    # the first sweep grows the heap (~4,700 pages); before the reserve every later one faulted
+    # ~4,680 pages in again
+    assert faults[0] > 1000
+    assert max(faults[1:]) < 0.05 * faults[0], faults
+
+
+def test_reserve_is_once_per_size_and_never_touches_memory(monkeypatch):
+    from mechsketch.core.solver import memory
+
+    monkeypatch.setattr(memory, "_reserved", 0)
+    made = []
+    monkeypatch.setattr(memory.np, "empty", lambda size, dtype=None: made.append(size))
+    memory.reserve(100)            # 100 KiB: below the default thresholds, nothing to do
+    memory.reserve(10000)
+    memory.reserve(3600)           # smaller than reserved: nothing
+    memory.reserve(10000)
+    memory.reserve(10 ** 6)        # capped below glibc's 32 MiB limit of dynamic adaptation
+    memory.reserve(10 ** 7)
+    assert made == [10000 * memory.PER_SAMPLE, memory.MOST] and memory.MOST < 32 << 20

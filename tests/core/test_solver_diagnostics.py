@@ -100,12 +100,17 @@ def test_modes_in_the_summary():
 
 
 def test_prp_parallel_guides_are_assembly_limits():
-    """The crank's guide turns parallel to the fixed one twice per turn: two tiny gaps."""
+    """The crank's guide turns parallel to the fixed one twice per turn (at 100° and 280°): the pin
+    runs off to infinity there, and beyond them the lines cross the other way, which the mechanism
+    cannot reach from its drawn pose (40°): one range from −80° to 100°, limited at both ends."""
     lk = LB.prp_linkage()
     sol = compile_plan(lk).sweep(samples=360)
     d = diagnose(sol)
     limits = sorted(p.input for p in d.dead_points if p.kind == "limit")
-    assert len(limits) == 4
+    assert len(limits) == 2 and not d.full_turn
     xi = math.radians(100.0)
     for x in limits:
-        assert min(abs(math.remainder(x - xi, math.pi)), abs(math.remainder(x - xi, math.pi))) < 1e-5
+        assert abs(math.remainder(x - xi, math.pi)) < 1e-5
+    (a, b), = d.reachable
+    assert a == pytest.approx(math.radians(-80.0), abs=1e-5) and b == pytest.approx(xi, abs=1e-5)
+    assert all("turn parallel" in str(p) for p in d.dead_points)

@@ -115,7 +115,8 @@ def test_starts_at_drawn_pose(case):
 def test_loop_closure_every_sample(case):
     lk, plan, sol = solved(case)
     size = LB.size_of(lk)
-    assert sol.valid.sum() > 0.7 * len(sol)
+    # a PRP whose guide turns with the crank reaches half a turn: the side of its drawn crossing
+    assert sol.valid.sum() > (0.45 if case.startswith("PRP") else 0.7) * len(sol)
     assert CK.closure_error(lk, sol) <= 1e-12 * size
     assert sol.residual() <= 1e-12 * size
 
@@ -123,7 +124,9 @@ def test_loop_closure_every_sample(case):
 @pytest.mark.parametrize("case", IDS)
 def test_against_mpmath_50_digits(case):
     lk, plan, sol = solved(case)
-    ok = np.flatnonzero(well_conditioned(sol))
+    # a PRP's pin runs off towards infinity near its parallel poses (positions ~ size/cond): the
+    # picks keep to where it stays within ten sizes
+    ok = np.flatnonzero(well_conditioned(sol, 0.1 if case.startswith("PRP") else 1e-3))
     pick = ok[:: max(1, len(ok) // 14)]
     assert len(pick) >= 10
     err = R.relative(R.compare(lk, sol, pick))

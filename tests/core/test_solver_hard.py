@@ -179,7 +179,8 @@ def test_extreme_length_ratios(name):
     sol = compile_plan(lk).sweep(samples=360)
     size = LB.size_of(lk)
     ok = np.flatnonzero(sol.valid & (np.nan_to_num(sol.conditioning(sol.groups[0].name)) > 1e-3))
-    assert len(ok) > 300
+    # a PRP whose guide turns with the crank reaches half a turn: the side of its drawn crossing
+    assert len(ok) > (170 if name.startswith("PRP") else 300)
     err = R.relative(R.compare(lk, sol, ok[:: len(ok) // 10]))
     assert err["pos"] <= 1e-13, err
     assert err["ang"] <= 1e-13, err
@@ -211,7 +212,7 @@ def test_translated_by_1e6_equals_untranslated(name):
     both = s1.valid & s2.valid
     for g in s1.groups:
         both &= np.nan_to_num(s1.conditioning(g.name)) > 1e-3
-    assert both.sum() > 300
+    assert both.sum() > (170 if name == "PRP" else 300)   # a PRP on the crank: half a turn
     size = LB.size_of(near)
     # the drawn crank angle itself carries the coordinates' rounding (eps·1e6 / crank)
     assert np.allclose(s1.input, s2.input, rtol=0, atol=1e-10)
@@ -243,12 +244,14 @@ def test_translated_by_1e6_equals_untranslated(name):
 def test_prp_at_exactly_parallel_guides_is_not_assembled(shift):
     """Crank drawn at 40°, fixed guide at 100°: samples 60 and 240 put the guide on the crank
     exactly parallel to the fixed one. There the lines do not meet (in float the intersection is
-    rounding noise ~1e16 mm away): NaN and valid False, never a 'valid' pose whose loop is open."""
+    rounding noise ~1e16 mm away): NaN and valid False, never a 'valid' pose whose loop is open.
+    Between them the lines cross the other way: the pin would have run off to infinity and back,
+    which the mechanism cannot do (issue 20, item 1): not assembled either."""
     lk = LB.translated(LB.prp_linkage(), *shift)
     sol = compile_plan(lk).sweep(samples=360)
     assert not sol.valid[60] and not sol.valid[240]
     assert np.isnan(sol.position("L")[[60, 240]]).all()
-    assert sol.valid.sum() >= 356
+    assert sol.valid[241:].all() and sol.valid[:60].all() and not sol.valid[60:241].any()
     assert CK.closure_error(lk, sol) <= 1e-9 * LB.size_of(lk)
     assert sol.residual() <= 1e-9 * LB.size_of(lk)
 

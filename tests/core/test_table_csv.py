@@ -83,4 +83,8 @@ def test_empty_and_integer_dtype_tables():
 
 
 def test_handlers_cover_every_element_type():
-    assert set(HANDLERS) == {"linkage", "geneva", "rolling_lever"}
+    """Every kind that is part of the machine has CLI handlers (an underlay has none: nothing to analyse)."""
+    from mechsketch.core.model.kinds import ELEMENT_KINDS
+
+    assert set(HANDLERS) == {name for name, kind in ELEMENT_KINDS.items() if kind.parts}
+    assert {"linkage", "geneva", "rolling_lever", "gear_pair", "geared_geneva"} <= set(HANDLERS)

@@ -34,12 +34,12 @@ finite = st.floats(-1e4, 1e4, allow_nan=False)
 def test_placement_is_a_similarity_and_to_source_inverts_it(scale, angle, ox, oy, pts):
     pl = Placement(scale, angle, (ox, oy))
     src = np.array(pts)
-    world = pl.to_world(src)
+    world = np.array(pl.to_world(src))
     t = math.radians(angle)
     ref = np.array([[ox + scale * (x * math.cos(t) - y * math.sin(t)),
                      oy + scale * (x * math.sin(t) + y * math.cos(t))] for x, y in pts])
     assert np.allclose(world, ref, rtol=1e-12, atol=1e-9 * (1 + scale * 1e4))
-    assert np.allclose(pl.to_source(world), src, rtol=1e-9, atol=1e-7)
+    assert np.allclose(np.array(pl.to_source(world)), src, rtol=1e-9, atol=1e-7)
     if len(pts) >= 2:   # distances scale by ``scale``
         d_src = np.hypot(*(src[1] - src[0]))
         assert np.hypot(*(world[1] - world[0])) == pytest.approx(scale * d_src, rel=1e-9, abs=1e-7)
@@ -48,9 +48,9 @@ def test_placement_is_a_similarity_and_to_source_inverts_it(scale, angle, ox, oy
 def test_placing_by_two_points_keeps_the_first_and_sets_the_distance():
     pl = Placement(0.5, 30.0, (10.0, -4.0))
     a_src, b_src = np.array([[3.0, 4.0]]), np.array([[40.0, -11.0]])
-    a, b = pl.to_world(a_src)[0], pl.to_world(b_src)[0]
+    a, b = np.array(pl.to_world(a_src)[0]), np.array(pl.to_world(b_src)[0])
     new = pl.scaled_about(tuple(a), 120.0 / np.hypot(*(b - a)))
-    a2, b2 = new.to_world(a_src)[0], new.to_world(b_src)[0]
+    a2, b2 = np.array(new.to_world(a_src)[0]), np.array(new.to_world(b_src)[0])
     assert np.allclose(a2, a, atol=1e-12) and np.hypot(*(b2 - a2)) == pytest.approx(120.0, rel=1e-14)
     assert new.angle_deg == 30.0
     with pytest.raises(ValueError, match="positive"):
@@ -115,11 +115,11 @@ def test_a_picture_that_is_not_what_it_says_is_refused():
 def test_translated_and_extent_move_and_bound_an_underlay():
     u = _drawing()
     x0, y0, x1, y1 = extent(u)
-    world = u.world_points()
+    world = np.array(u.world_points())
     assert (x0, y0, x1, y1) == pytest.approx((world[:, 0].min(), world[:, 1].min(), world[:, 0].max(),
                                               world[:, 1].max()))
     moved = translated(u, 5.0, -2.0)
-    assert np.allclose(moved.world_points(), world + [5.0, -2.0])
+    assert np.allclose(np.array(moved.world_points()), world + [5.0, -2.0])
 
 
 def test_dxf_geometry_in_inches_arrives_in_millimetres(tmp_path):
@@ -135,7 +135,7 @@ def test_dxf_geometry_in_inches_arrives_in_millimetres(tmp_path):
     u, mm = read_underlay(tmp_path / "a.dxf", "u")
     assert mm == 25.4 and u.kind == "drawing"
     world = placed(u, mm)
-    paths = world.world_paths()
+    paths = [np.array(p) for p in world.world_paths()]
     line = next(p for p in paths if len(p) == 2 and abs(p[0][1]) < 1e-9 and abs(p[1][1]) < 1e-9)
     assert np.hypot(*(line[1] - line[0])) == pytest.approx(101.6, rel=1e-12)
     circle = max(paths, key=len)
@@ -155,7 +155,7 @@ def test_svg_shapes_with_transforms_and_units(tmp_path):
         '<g transform="translate(10 20)"><rect x="0" y="0" width="50" height="30"/></g>'
         '<path d="M 100 50 L 150 50"/><circle cx="30" cy="70" r="10"/><text x="1" y="1">ignored</text></svg>')
     u, mm = read_underlay(tmp_path / "a.svg", "s")
-    w = placed(u, mm).world_paths()
+    w = [np.array(p) for p in placed(u, mm).world_paths()]
     rect = next(p for p in w if len(p) <= 6 and np.ptp(p[:, 0]) == pytest.approx(50.0, rel=1e-9))
     assert rect[:, 0].min() == pytest.approx(10.0, rel=1e-9) and rect[:, 1].max() == pytest.approx(-20.0, rel=1e-9)
     assert np.ptp(rect[:, 1]) == pytest.approx(30.0, rel=1e-9)   # y flipped: SVG's y points down
@@ -201,3 +201,13 @@ def test_a_fifo_is_refused_without_blocking(tmp_path):
     with pytest.raises(RequestError, match="not a regular file"):
         read_underlay(fifo, "u")
     assert underlay_kind("a.DXF") == "drawing" and underlay_kind("b.JPG") == "picture" and underlay_kind("c.json") is None
+
+
+def test_the_scene_reader_loads_no_numpy_for_underlays():
+    """The model stays pure Python: the CLI's start-up (and its one-BLAS-thread request) needs it."""
+    import subprocess
+    import sys
+
+    code = "import sys, mechsketch.core.model.underlay, mechsketch.core.io.scene_file; print('numpy' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert out.stdout.strip() == "False", out.stderr

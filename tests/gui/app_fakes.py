@@ -31,6 +31,7 @@ class FakeDialogs:
         self.questions: list[tuple[str, str]] = []
         self.infos: list[tuple[str, str]] = []
         self.export_requests: deque = deque()
+        self.numbers: deque[float | None] = deque()
 
     def open_file_name(self, title, directory="", filter=""):
         self.questions.append((title, directory))
@@ -54,6 +55,10 @@ class FakeDialogs:
     def info(self, title, text):
         self.infos.append((title, text))
 
+    def ask_number(self, title, text, value, unit=""):
+        self.questions.append((title, f"{text} [{value:g} {unit}]"))
+        return self.numbers.popleft() if self.numbers else None
+
     def export_request(self, title, choices, default_id, fmt, min_webs=None):
         """The next queued ExportRequest (a callable gets the arguments), else the dialog's defaults."""
         from mechsketch.gui.export_dialog import ExportRequest
@@ -64,6 +69,32 @@ class FakeDialogs:
             req = self.export_requests.popleft()
             return req(default_id, fmt) if callable(req) else req
         return ExportRequest(default_id, fmt)
+
+
+class FakeClock:
+    """A monotonic clock (seconds) the test moves by hand: the animation player's ``clock``."""
+
+    def __init__(self, now: float = 100.0) -> None:
+        self.now = now
+
+    def __call__(self) -> float:
+        return self.now
+
+    def advance(self, seconds: float) -> None:
+        self.now += seconds
+
+
+def play_ticks(player, ticks: int = 3, seconds: float = 0.016) -> FakeClock:
+    """Play ``player`` for ``ticks`` timer ticks of ``seconds`` each on a fake clock (no waiting
+    on wall time: the ticks are called here, as the timer would), then pause it."""
+    clock = FakeClock()
+    player.clock = clock
+    player.play()
+    for _ in range(ticks):
+        clock.advance(seconds)
+        player.tick()
+    player.pause()
+    return clock
 
 
 def stand_in_components(controller, window) -> CanvasParts:

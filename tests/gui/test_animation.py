@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 from PySide6.QtCore import QPoint, Qt
 
+from app_fakes import FakeClock
 from canvas_user import example, make_view
 from mechsketch.core.solver import plan as plan_mod
 from mechsketch.gui.animation import AnimationPlayer
@@ -32,15 +33,42 @@ def test_playing_a_few_frames_moves_the_canvas_without_solving(qtbot, no_solving
     no_solving()
     frames = []
     ctl.frameChanged.connect(frames.append)
+    clock = FakeClock()
+    player.clock = clock
     player.play()
     assert player.is_playing and player.play_action.isChecked()
-    qtbot.waitUntil(lambda: len(frames) >= 3, timeout=20000)
+    for _ in range(3):
+        clock.advance(0.016)   # a tick of the timer: 0.016 s of a 0.628 s cycle is 9 samples
+        player.tick()
     player.pause()
+    assert len(frames) == 3 and frames == [9, 18, 27]
     assert not player.is_playing and not player.play_action.isChecked()
     assert ctl.frame > 0 and frames == sorted(frames)
     sol = ctl.result("fourbar").solution
     pose = view._items["fourbar"].linkage.pose
     assert pose.index == ctl.frame and np.allclose(pose.at["E"], sol.position("E")[ctl.frame])
+
+
+def test_the_player_moves_by_its_clock_not_by_wall_time(qtbot):
+    """A tick advances by the time the player's clock says has passed (at most 0.25 s), so a
+    test drives it without waiting and a stalled event loop never makes it jump."""
+    ctl = SceneController(example("fourbar_crank_rocker"))   # 360 samples in 0.6283 s
+    player = AnimationPlayer(ctl)
+    clock = FakeClock()
+    player.clock = clock
+    player.play()
+    player.tick()
+    assert ctl.frame == 0                                     # no time has passed on its clock
+    clock.advance(0.1)
+    player.tick()
+    assert ctl.frame == int(360 * 0.1 / player.period())      # 57
+    clock.advance(30.0)                                       # the event loop stalled for 30 s
+    player.tick()
+    assert ctl.frame == (57 + int(360 * 0.25 / player.period() + 0.2)) % 360   # 0.25 s at most
+    player.pause()
+    clock.advance(1.0)
+    player.tick()                                             # paused: a late tick does nothing
+    assert ctl.frame == (57 + int(360 * 0.25 / player.period() + 0.2)) % 360
 
 
 def test_speed_and_direction_follow_the_drivers_rpm(qtbot):

@@ -13,7 +13,7 @@ from mechsketch import resources
 from mechsketch.core import load_scene
 from mechsketch.core.analyses.parts import build as parts_build
 from mechsketch.core.analyses.parts.build import PartOptions
-from mechsketch.gui.export_dialog import ExportDialog, ExportRequest
+from mechsketch.gui.export_dialog import DIALOG_VOCABULARY, ExportDialog, ExportRequest
 from mechsketch.gui.export_worker import ExportTask
 
 from app_fakes import shell  # noqa: F401 - fixture
@@ -119,10 +119,12 @@ def test_a_linkage_exports_its_plates_as_svg_with_the_dialogs_options(shell, qtb
 def test_a_part_thinner_than_the_minimum_web_is_refused_with_what_to_change(shell, qtbot, tmp_path):
     parts = shell()
     parts.window.actions["example:geneva_z6"].trigger()
-    parts.dialogs.export_requests.append(lambda eid, fmt: ExportRequest(eid, fmt, options=PartOptions(min_web=5.0)))
+    parts.dialogs.export_requests.append(lambda eid, fmt: ExportRequest(
+        eid, fmt, options=PartOptions(min_web=5.0, vocabulary=DIALOG_VOCABULARY)))
     _export(parts, qtbot, tmp_path / "w.dxf")
     title, text, _ = parts.dialogs.errors[-1]
     assert title == "Export DXF" and "below the minimum web 5 mm" in text and "change" in text
+    assert "the dialog's Minimum web or drawing.min_web" in text and "--" not in text  # no CLI flag in the app
     assert not (tmp_path / "w.dxf").exists()
 
 
@@ -137,7 +139,7 @@ def test_the_export_dialog_builds_the_request(qtbot):
     dlg.split.setChecked(True)
     req = dlg.request()
     assert req == ExportRequest("a", "dxf", "assembled", ("q", "p"), True, "entities",
-                                PartOptions(tolerance=0.001, min_web=1.0))
+                                PartOptions(tolerance=0.001, min_web=1.0, vocabulary=DIALOG_VOCABULARY))
 
 
 def test_cancelling_the_export_dialog_exports_nothing(shell):

@@ -18,7 +18,7 @@ from mechsketch.core.cli import geneva_cmds
 from mechsketch.core.model.geneva import Geneva
 from mechsketch.gui.canvas.geneva_items import ARC_PIECE
 
-from app_fakes import shell  # noqa: F401 - fixture
+from app_fakes import play_ticks, shell  # noqa: F401 - fixture
 from app_fakes import patch_everywhere, type_into as _type, open_example as _open
 
 
@@ -112,9 +112,8 @@ def test_playing_turns_the_crank_and_the_wheel_by_the_kinematics(shell, qtbot, m
         patch_everywhere(monkeypatch, func, boom)
     frames = []
     c.frameChanged.connect(frames.append)
-    player.play()
-    qtbot.waitUntil(lambda: len(frames) >= 3, timeout=20000)
-    player.pause()
+    play_ticks(player, ticks=3)            # three timer ticks on a fake clock: no waiting
+    assert len(frames) == 3 and c.frame > 0
     direction = math.radians(el.wheel_direction_deg)
     for k in (c.frame, 0, 1500, 1799, 1800, 2399, 3000):
         c.set_frame(k)

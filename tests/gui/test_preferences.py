@@ -245,3 +245,12 @@ def test_the_plots_follow_the_units(shell, qtbot, tmp_path):
     plots.export_csv(str(tmp_path / "p.csv"))
     head = (tmp_path / "p.csv").read_text().splitlines()[0]
     assert head.startswith("input_rad") and "C.x_in" in head
+
+
+def test_out_of_range_preferences_are_not_saved(shell):
+    parts = shell()
+    w = parts.window
+    assert not w.set_preferences(Preferences(samples=1, dead_points="jump"))
+    title, text, _ = parts.dialogs.errors[-1]
+    assert title == "Preferences" and "samples 1 outside 8..1,000,000" in text and "'jump'" in text
+    assert w.preferences == Preferences() and load_preferences(parts.file_ops.settings) == Preferences()

@@ -15,7 +15,7 @@ from mechsketch.core.analyses.rolling.synthesis import synthesize
 from mechsketch.core.cli import rolling_cmds
 from mechsketch.core.model.rolling_lever import RollingLever
 
-from app_fakes import shell  # noqa: F401 - fixture
+from app_fakes import play_ticks, shell  # noqa: F401 - fixture
 from app_fakes import patch_everywhere, type_into as _type, open_example as _open
 
 
@@ -72,9 +72,8 @@ def test_playing_moves_the_lever_and_slider_by_the_drives_frames(shell, qtbot, m
     patch_everywhere(monkeypatch, synthesize, boom)
     frames = []
     c.frameChanged.connect(frames.append)
-    parts.window.player.play()
-    qtbot.waitUntil(lambda: len(frames) >= 3, timeout=20000)
-    parts.window.player.pause()
+    play_ticks(parts.window.player, ticks=3)            # three timer ticks on a fake clock: no waiting
+    assert len(frames) == 3 and c.frame > 0
     d = res.drive
     for k in (c.frame, 0, 57, n // 2, n - 1):
         c.set_frame(k)

@@ -53,7 +53,7 @@ from ...solver.kernels import cross
 from ...solver.plan import Plan, Solution
 from ...solver.structure import Group
 from .errors import force_errors
-from .passes import MM, Kinetostatics, Pass, _pin_force
+from .passes import MM, Kinetostatics, Pass, _neg, _pin_force
 
 __all__ = ["COND_WARN", "DeadPointNote", "DriverEffort", "ForceResult", "FrictionResult", "MM",
            "PowerBalance", "SlideReaction", "input_label", "linkage_forces"]
@@ -328,14 +328,14 @@ def _views(ks: Kinetostatics, p: Pass, valid: np.ndarray, all_valid: bool
         if j.kind is JointKind.R:
             if len(carriers) == 2:
                 on, f = single[j.id]
-                pins[j.id] = {carriers[1]: xy(f if on == carriers[1] else -f)}
+                pins[j.id] = {carriers[1]: xy(f if on == carriers[1] else _neg(f))}
             else:
                 pins[j.id] = {b: xy(_pin_force(p.pairs, j.id, b)) for b in carriers[1:]}
         elif j.id in p.slides:
             on, f, q, c = p.slides[j.id]
             by, later = carriers
             if on != later:
-                f, c = -f, -c
+                f, c = _neg(f), _neg(c)
             moment = MM * (c + cross(q - ks.point(later, ks.at[j.id]), f))
             normal = (f * np.conjugate(ks.normal(later, j.id))).real
             slides[j.id] = SlideReaction(j.id, by, later, xy(f), masked(normal), masked(moment))

@@ -53,6 +53,14 @@ def _times(a, inv, z):
     return _fz(a * inv) * z
 
 
+def _neg(x):
+    """−x. A complex array is negated through its float view: numpy's complex negative runs a
+    generic loop element by element; flipping the sign of both parts is the same bits, vectorised."""
+    if type(x) is _ND and x.dtype == np.complex128 and x.ndim == 1 and x.flags.c_contiguous:
+        return np.negative(x.view(np.float64)).view(np.complex128)
+    return -x
+
+
 def _add(a, b):
     if type(a) is not _ND and a == 0:
         return b
@@ -65,7 +73,7 @@ def _sub(a, b):
     if type(b) is not _ND and b == 0:
         return a
     if type(a) is not _ND and a == 0:
-        return -b
+        return _neg(b)
     return a - b
 
 
@@ -330,7 +338,7 @@ class Kinetostatics:
                 else:
                     inv = 1.0 / cross(ai, aj)
                 X = _add(_times(about(i, l0), inv, aj), _times(b, inv, ai))
-                Z = _sub(-tot, X) if not _zero(tot) else -X
+                Z = _sub(_neg(tot), X) if not _zero(tot) else _neg(X)
                 pairs += [(g.outer_i, i, g.known_i, X), (g.outer_j, j, g.known_j, Z),
                           (g.inner, j, i, _add(X, Fi))]
                 take(g.known_i, X, m0)
@@ -340,7 +348,7 @@ class Kinetostatics:
                 n = self.normal(j, g.outer_j)
                 ri = _sub(arm(i, m0), arm(i, l0))
                 f = _times(_sub(about(i, l0), cross(ri, tot)), 1.0 / cross(ri, n), n)
-                X = _sub(-f, tot)
+                X = _sub(_neg(f), tot)
                 pairs += [(g.outer_i, i, g.known_i, X), (g.inner, j, i, _add(X, Fi))]
                 q = self.point(i, l0)
                 c = -about(j, l0)
@@ -353,7 +361,7 @@ class Kinetostatics:
                 qm = self.point(i, m0)
                 c = about(i, m0)
                 f = _times(_add(c, about(j, h0)), 1.0 / cross(n, _sub(qm, self.point(j, h0))), n)
-                X, Z = _sub(f, Fi), _sub(-f, Fj)
+                X, Z = _sub(f, Fi), _sub(_neg(f), Fj)
                 pairs += [(g.outer_i, i, g.known_i, X), (g.outer_j, j, g.known_j, Z)]
                 slides[g.inner] = (j, f, qm, c)
                 take(g.known_i, X, m0)
@@ -396,7 +404,7 @@ class Kinetostatics:
         pv = at[drv.pivot]
         if self.kind == "crank":
             effort = -about(drv.link, pv)
-            reaction = -F[drv.link]
+            reaction = _neg(F[drv.link])
             pairs.append((drv.pivot, drv.link, self.ground, reaction))
             take(self.ground, reaction, pv)
             M[self.ground] = _sub(M[self.ground], effort)
@@ -405,7 +413,7 @@ class Kinetostatics:
             u = -1j * self.normal(k, drv.pivot)
             effort = -(F[k] * np.conjugate(u)).real          # N along the guide, + extending
             push = _fz(effort) * u
-            f = _sub(-F[k], push)                            # the guide's normal force on the slider
+            f = _sub(_neg(F[k]), push)                            # the guide's normal force on the slider
             q = self.point(k, pv)
             c = -about(k, pv)
             slides[drv.pivot] = (k, f, q, c)
@@ -427,7 +435,7 @@ class Kinetostatics:
             elif by == barrel:
                 by, r_h = rod, _sub(r_h, f)
             pairs[n] = (j, on, by, f)
-        t = -_add(rod_f, r_h)                                # the barrel's force on the rod
+        t = _neg(_add(rod_f, r_h))                                # the barrel's force on the rod
         n_vec = self.normal(barrel, slide)
         u = -1j * n_vec
         axial = (t * np.conjugate(u)).real

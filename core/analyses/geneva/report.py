@@ -17,8 +17,11 @@ from .kinematics import GenevaKinematics
 from ..table import Table
 
 #: the analysis table's columns and their units (rad, rad/s, rad/s², rad/s³; N; N·m; mm; mm/s;
-#: N·min/m; MPa); contact columns are empty outside the engagement
-COLUMNS = ("t", "input", "wheel.angle", "wheel.omega", "wheel.alpha", "wheel.jerk", "engaged", "Rn",
+#: N·min/m; MPa); contact columns are empty outside the engagement, and ``contact_valid`` 0 flags
+#: an engaged row outside the contact model's validity range (its strip, widths, deformation,
+#: slip speed and pressure empty; the slip path empty from the first such row on)
+COLUMNS = ("t", "input", "wheel.angle", "wheel.omega", "wheel.alpha", "wheel.jerk", "engaged",
+           "contact_valid", "Rn",
            "Rn_paper", "moment", "strip_width", "hertz_half_width", "deformation", "rolling_ratio",
            "slip_speed", "slip_path", "wear_invariant", "contact_pressure")
 
@@ -28,12 +31,13 @@ def analysis_table(kin: GenevaKinematics, con: GenevaContact) -> Table:
     cols: dict[str, np.ndarray] = {
         "t": kin.t, "input": kin.phi, "wheel.angle": kin.wheel_angle, "wheel.omega": kin.omega,
         "wheel.alpha": kin.alpha, "wheel.jerk": kin.jerk, "engaged": kin.engaged.astype(float),
+        "contact_valid": con.contact_valid.astype(float),
         "Rn": con.Rn, "Rn_paper": con.Rn_paper, "moment": con.moment, "strip_width": con.strip_width,
         "hertz_half_width": con.hertz_half_width, "deformation": con.deformation,
         "rolling_ratio": con.rolling_ratio, "slip_speed": con.slip_speed, "slip_path": con.slip_path,
         "wear_invariant": con.wear_invariant, "contact_pressure": con.contact_pressure,
     }
-    return Table.from_columns({k: cols[k] for k in COLUMNS}, integer={"engaged"})
+    return Table.from_columns({k: cols[k] for k in COLUMNS}, integer={"engaged", "contact_valid"})
 
 
 def _deg(x: float) -> str:
@@ -76,24 +80,57 @@ def summary(el: Geneva, kin: GenevaKinematics, con: GenevaContact, geo: GenevaGe
                      f"locking margin φ0 + β_L − ψ_r = {_deg(geo.locking_margin)}")
     except GeometryError as exc:
         lines.append(f"  drawing: {exc}")
-    m = con.model
-    life = con.life
-    eng = con.engaged
+    lines += _contact_lines(el, con)
+    lines += [
+        "assumptions:",
+    ]
+    lines += [f"  - {a}" for a in con.assumptions]
+    return "\n".join(lines)
+
+
+def _contact_lines(el: Geneva, con: GenevaContact) -> list[str]:
+    """The summary's contact and wear lines (the validity range first; totals only inside it)."""
+    m, life, eng, v = con.model, con.life, con.engaged, con.validity
     loaded = con.Rn_max > 0.0
     where_rn = f"at φ = {_deg(con.phi_Rn_max)} (most loaded place)" if loaded else \
         "(no load: J2 = 0 and no external moment, so the roller transmits no force anywhere)"
-    t_i = (f"up to {con.wear_invariant_max:.4g} N·min/m" if math.isfinite(con.wear_invariant_max) else
-           "undefined: with no load R_n = 0 and L_s = 0 (0/0), so its column is empty" if not loaded else
-           "undefined (L_s = 0), so its column is empty")
-    where_p = f"at φ = {_deg(con.phi_pressure_max)}" if loaded else "(no load)"
+    ratios = (f"Δ/r_p up to {v.max_deformation_ratio:.3g}, b/r_p up to {v.max_half_width_radius_ratio:.3g}, "
+              f"b/l up to {v.max_half_width_length_ratio:.3g}")
+    limits = (f"Δ ≤ {v.deformation_limit:g}·r_p, b ≤ {v.half_width_limit:g}·r_p and ≤ {v.half_width_limit:g}·l, "
+              f"i.e. R_n ≤ {v.rn_limit:.4g} N")
+    lines = ["contact and wear (Stetsiv, corrected; columns: N, N·m, mm, mm/s, N·min/m, MPa; empty outside the "
+             "engagement):"]
+    if v.ok:
+        lines.append(f"  validity range of the contact model ({limits}): within it at every engaged row ({ratios}; "
+                     f"peak R_n {v.rn_peak:.4g} N)")
+    else:
+        runs = ", ".join(f"{_deg(a)} to {_deg(b)}" for a, b in v.invalid_runs) or "between samples only"
+        lines.append(f"  outside the contact model's validity range ({limits}) at {v.invalid_rows} of "
+                     f"{v.engaged_rows} engaged rows (φ {runs}; peak R_n {v.rn_peak:.4g} N, {v.rn_peak / v.rn_limit:.3g}× the limit; the model would give "
+                     f"{ratios}): those rows are flagged contact_valid 0 with their strip, widths, deformation, slip "
+                     "and pressure left empty; L_s, T_i, the peak pressure and the life are not computed. Use a "
+                     "stiffer roller or wheel (E), a longer roller_length or roller_radius, or a lighter load")
     lines += [
-        "contact and wear (Stetsiv, corrected; columns: N, N·m, mm, mm/s, N·min/m, MPa; empty outside the engagement):",
         f"  Rn = {m.normal_force} form: max {con.Rn_max:.6g} N {where_rn}; "
         f"paper's eq. (3) max {np.nanmax(con.Rn_paper[eng]) if eng.any() else 0.0:.6g} N; derived max "
         f"{np.nanmax(con.Rn_derived[eng]) if eng.any() else 0.0:.6g} N",
         f"  strip width a_paper up to {_mx(con.strip_width) * 1e3:.4g} µm, Hertz half-width b up to "
         f"{_mx(con.hertz_half_width) * 1e3:.4g} µm, roller deformation Δ up to {_mx(con.deformation) * 1e3:.4g} µm, "
-        f"|ω_pi| up to {_mx(np.abs(con.rolling_ratio)):.4g} (r/r_p at entry)",
+        f"|ω_pi| up to {_mx(np.abs(con.rolling_ratio)):.4g} (r/r_p at entry)"
+        + ("" if v.ok else " (valid rows only)"),
+    ]
+    if not v.ok:
+        lines += ["  slip path per engagement L_s: not computed (outside the validity range); slip speed up to "
+                  f"{_mx(con.slip_speed):.4g} mm/s at the valid rows",
+                  "  paper's wear invariant T_i: not computed (it needs L_s)",
+                  "  peak contact pressure p_max: not computed (the peak lies outside the validity range)",
+                  f"  Archard (k = {el.wear.specific_wear_rate:g} mm³/(N·m), [h] = {el.wear.allowed_wear:g} mm): "
+                  "wear and life not computed (outside the validity range)"]
+        return lines
+    t_i = (f"up to {con.wear_invariant_max:.4g} N·min/m" if math.isfinite(con.wear_invariant_max) else
+           "undefined: with no load R_n = 0 and L_s = 0 (0/0), so its column is empty")
+    where_p = f"at φ = {_deg(con.phi_pressure_max)}" if loaded else "(no load)"
+    lines += [
         f"  slip path per engagement L_s = {con.slip_path_total * 1e3:.6g} µm (Gauss–Legendre on each smooth piece, "
         f"breaks at progress angles {', '.join(_deg(b) for b in con.breaks)}; the slip_path column, Gauss–Legendre "
         f"on every interval between samples and breaks, ends there; the trapezoid rule on the same points would "
@@ -107,10 +144,8 @@ def summary(el: Geneva, kin: GenevaKinematics, con: GenevaContact, geo: GenevaGe
             f"slot life {life.slot_cycles:.3g} crank turns, roller {life.roller_cycles:.3g}; limiting: "
             f"{life.limiting}, {life.cycles:.3g} turns = {life.hours:.3g} h at {abs(el.speed_rpm):g} rpm"
             if math.isfinite(life.cycles) else "no wear, so no limit to the life of slot or roller"),
-        "assumptions:",
     ]
-    lines += [f"  - {a}" for a in con.assumptions]
-    return "\n".join(lines)
+    return lines
 
 
 def _mx(arr: np.ndarray) -> float:

@@ -15,18 +15,22 @@ This package's ``__init__`` is the one place callers import records and checks f
   queried (orientation, exact bounds, is it a circle);
 - :mod:`.records`: :class:`Part`, :class:`Curve`, :class:`PartSet`;
 - :mod:`.check`: the checks, the thinnest web (how it is measured is said there) and the
-  report lines;
-- :mod:`.layout`: :class:`Sheet` and :func:`lay_out`.
+  report lines; :mod:`.distance` (exact distances between contours through a spatial index) and
+  :mod:`.thickness` (the outline's thickness along its normals) measure it;
+- :mod:`.layout`: :class:`Sheet` and :func:`lay_out`;
+- :mod:`.keys`: what the user can change, named as the front end in use names it.
 """
 from __future__ import annotations
 
-from .check import (DEFAULT_MIN_WEB, HEAD_ON_DEG, NECK_SAMPLES, PartCheck, check_part, check_parts, necks,
-                          report_lines, require_checked, thinnest_web)
+from .check import (DEFAULT_MIN_WEB, PartCheck, check_part, check_parts, check_tolerance, failures, report_lines,
+                    require_checked, thinnest_web)
+from .thickness import HEAD_ON_DEG, NECK_SAMPLES, necks
+from .keys import API, Vocabulary, name_of, names_of
 from .layout import LAYOUTS, Label, Sheet, lay_out
 from .outline import ccw, circle, contour_bounds, disc_hull, is_circle, rectangle, reversed_contour, stadium
 from .records import CHECK_TOL, Curve, Part, PartSet
 
-__all__ = ["CHECK_TOL", "DEFAULT_MIN_WEB", "HEAD_ON_DEG", "LAYOUTS", "NECK_SAMPLES", "Curve", "Label", "Part",
-           "PartCheck", "PartSet", "Sheet", "ccw", "check_part", "check_parts", "circle", "contour_bounds",
-           "disc_hull", "is_circle", "lay_out", "necks", "rectangle", "report_lines", "require_checked",
+__all__ = ["API", "CHECK_TOL", "DEFAULT_MIN_WEB", "HEAD_ON_DEG", "LAYOUTS", "NECK_SAMPLES", "Curve", "Label", "Part",
+           "PartCheck", "PartSet", "Sheet", "ccw", "check_part", "check_parts", "check_tolerance", "circle", "contour_bounds",
+           "Vocabulary", "disc_hull", "failures", "is_circle", "name_of", "names_of", "lay_out", "necks", "rectangle", "report_lines", "require_checked",
            "reversed_contour", "stadium", "thinnest_web"]

@@ -46,4 +46,4 @@ def geneva_parts(element: "Geneva", phi: float = 0.0, geo: GenevaGeometry | None
         f"crank arm: crank radius {d.crank_radius:.4f} mm, pin {geo.pin_radius:.4f} mm; drawn at crank angle "
         f"{math.degrees(phi):g}° (mid-engagement when 0); minimum web {element.min_web:g} mm (drawing.min_web)",
     )
-    return PartSet(element.id, parts, (), notes)
+    return PartSet(element.id, parts, (), notes, web_key="drawing.min_web")

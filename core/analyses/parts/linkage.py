@@ -21,6 +21,8 @@ Each link becomes a plate in the drawn pose (world frame, mm):
 
 Defaults scale with the linkage: the boss radius is 12 % of the median joint distance on the
 links, the bore 40 % of the boss, blocks 2.5 × 1.6 boss radii, the slot play 0.1 mm per side.
+A size may come from the linkage's ``drawing`` block or an export option instead
+(:func:`~.build.element_parts` resolves which); a message names it as ``LinkageStyle.names`` says.
 """
 from __future__ import annotations
 
@@ -47,13 +49,16 @@ BLOCK_LENGTH = 2.5
 BLOCK_WIDTH = 1.6
 DEFAULT_PLAY = 0.1  # mm per side between block and slot
 SWEEP_SAMPLES = 720
-#: option names the user can change (CLI flags)
-KEYS = ("--boss-radius", "--bore-diameter", "--link-width")
+#: what sizes a plate (canonical keys, see .keys): the linkage's drawing block
+KEYS = ("drawing.boss_radius", "drawing.bore_diameter", "drawing.link_width")
+BLOCK_KEYS = ("drawing.block_length", "drawing.block_width")
 
 
 @dataclass(frozen=True)
 class LinkageStyle:
-    """Plate sizes (mm); None means the scaled default (see the module docstring)."""
+    """Plate sizes (mm); None means the scaled default (see the module docstring). ``names``
+    pairs (field, words): how a message names where a size came from (default ``drawing.FIELD``,
+    ``width`` as ``drawing.link_width``)."""
 
     boss_radius: float | None = None
     bore_diameter: float | None = None
@@ -63,6 +68,11 @@ class LinkageStyle:
     play: float = DEFAULT_PLAY
     frame: str = "plate"
     tolerance: float = 0.01
+    names: tuple[tuple[str, str], ...] = ()
+
+    def name(self, field: str) -> str:
+        """The words for size ``field`` in messages."""
+        return dict(self.names).get(field, "drawing.link_width" if field == "width" else f"drawing.{field}")
 
 
 @dataclass(frozen=True)
@@ -174,17 +184,17 @@ def linkage_parts(linkage: Linkage, plan: Plan, style: LinkageStyle = LinkageSty
     boss = style.boss_radius if style.boss_radius is not None else BOSS_FRACTION * scale
     bore = 0.5 * style.bore_diameter if style.bore_diameter is not None else BORE_FRACTION * boss
     width = style.width if style.width is not None else 2 * boss
-    for name, v in (("--boss-radius", boss), ("--link-width", width)):
-        if not (math.isfinite(v) and v > 0):
-            raise GeometryError(f"{name} must be a positive number of millimetres; got {v:g}")
-    if not 0 <= bore < boss:
-        raise GeometryError(f"the bore (Ø{2 * bore:g} mm) must be smaller than the boss (radius {boss:g} mm): "
-                            "change --bore-diameter or --boss-radius")
-    if width > 2 * boss + 1e-12:
-        raise GeometryError(f"--link-width {width:g} mm is wider than the bosses (2 × {boss:g} mm): "
-                            "raise --boss-radius or narrow the link")
     blen = style.block_length if style.block_length is not None else BLOCK_LENGTH * boss
     bwid = style.block_width if style.block_width is not None else BLOCK_WIDTH * boss
+    for field, v in (("boss_radius", boss), ("width", width), ("block_length", blen), ("block_width", bwid)):
+        if not (math.isfinite(v) and v > 0):
+            raise GeometryError(f"{style.name(field)} must be a positive number of millimetres; got {v:g}")
+    if not (math.isfinite(bore) and 0 <= bore < boss):
+        raise GeometryError(f"the bore (Ø{2 * bore:g} mm) must be smaller than the boss (radius {boss:g} mm): "
+                            f"change {style.name('bore_diameter')} or {style.name('boss_radius')}")
+    if width > 2 * boss + 1e-12:
+        raise GeometryError(f"the link width {width:g} mm ({style.name('width')}) is wider than the bosses "
+                            f"(2 × {boss:g} mm): raise {style.name('boss_radius')} or narrow the link")
     margin = boss - bore
     trav = travels(plan)
     guides: dict[str, list[Travel]] = {}
@@ -214,7 +224,7 @@ def linkage_parts(linkage: Linkage, plan: Plan, style: LinkageStyle = LinkageSty
                 # stacked on the link (fastened where they overlap)
                 name = f"{lk.id}_guide_{t.joint}"
                 guide = stadium(a, b, r_slot + margin, "plate")
-                parts.append(Part(name, guide, (slot,), group=name, keys=KEYS + ("--block-width",)))
+                parts.append(Part(name, guide, (slot,), group=name, keys=KEYS + BLOCK_KEYS[1:]))
                 notes.append(where + f"; it passes over the pin at {', '.join(clash)}, so the guide is the "
                                      f"separate plate {name}, stacked on {lk.id}")
                 discs += [(a, r_slot + margin), (b, r_slot + margin)]
@@ -237,7 +247,7 @@ def linkage_parts(linkage: Linkage, plan: Plan, style: LinkageStyle = LinkageSty
                 corners = np.asarray(block.points)
                 cs = np.vstack([corners] + [d[0][None] for d in discs])
                 outer = disc_hull(cs, np.r_[np.zeros(4), [d[1] for d in discs]])
-            keys = KEYS + ("--block-length", "--block-width")
+            keys = KEYS + BLOCK_KEYS
         elif len(discs) == 0:
             continue
         elif len(discs) == 2 and len(rj) == 2:
@@ -251,7 +261,7 @@ def linkage_parts(linkage: Linkage, plan: Plan, style: LinkageStyle = LinkageSty
     notes.insert(0, f"plates: boss radius {boss:.3f} mm, bores Ø{2 * bore:.3f} mm, bar width {width:.3f} mm"
                     + (f", blocks {blen:.3f} × {bwid:.3f} mm, play {style.play:g} mm per side" if trav else "")
                     + f"; frame as a {'drilling pattern' if style.frame == 'drill' else 'plate'}; drawn pose")
-    return PartSet(linkage.id, tuple(parts), tuple(curves), tuple(notes))
+    return PartSet(linkage.id, tuple(parts), tuple(curves), tuple(notes), web_key="drawing.min_web")
 
 
 def _traces(linkage: Linkage, plan: Plan, tol: float, notes: list[str]) -> list[Curve]:

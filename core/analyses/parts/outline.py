@@ -137,15 +137,55 @@ def ccw(c: Contour) -> Contour:
 def contour_bounds(c: Contour) -> tuple[float, float, float, float]:
     """Exact bounding box (xmin, ymin, xmax, ymax) mm: vertices and the arcs' extreme points."""
     sg = c.segments()
-    xs, ys = list(sg.p0[:, 0]), list(sg.p0[:, 1])
-    for k in np.nonzero(sg.is_arc)[0]:
-        for q in range(4):
-            ang = q * math.pi / 2
-            rel = (ang - sg.a0[k]) % (2 * math.pi) if sg.theta[k] > 0 else (sg.a0[k] - ang) % (2 * math.pi)
-            if rel <= abs(sg.theta[k]):
-                xs.append(sg.centre[k, 0] + sg.radius[k] * math.cos(ang))
-                ys.append(sg.centre[k, 1] + sg.radius[k] * math.sin(ang))
-    return min(xs), min(ys), max(xs), max(ys)
+    lo, hi = sg.p0.min(axis=0), sg.p0.max(axis=0)
+    k = np.nonzero(sg.is_arc)[0]
+    if len(k):
+        ang = np.arange(4) * (math.pi / 2)                                  # +x, +y, −x, −y
+        a0, th = sg.a0[k][:, None], sg.theta[k][:, None]
+        rel = np.where(th > 0, np.mod(ang - a0, 2 * math.pi), np.mod(a0 - ang, 2 * math.pi))
+        on = rel <= np.abs(th)
+        r = sg.radius[k][:, None]
+        x = np.where(on[:, [0, 2]], sg.centre[k, 0:1] + r * np.array([1.0, -1.0]), np.nan)
+        y = np.where(on[:, [1, 3]], sg.centre[k, 1:2] + r * np.array([1.0, -1.0]), np.nan)
+        if np.isfinite(x).any():
+            lo[0], hi[0] = min(lo[0], np.nanmin(x)), max(hi[0], np.nanmax(x))
+        if np.isfinite(y).any():
+            lo[1], hi[1] = min(lo[1], np.nanmin(y)), max(hi[1], np.nanmax(y))
+    return float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1])
+
+
+def _turning(c: Contour) -> tuple[np.ndarray, np.ndarray, float]:
+    """Each segment's sweep (K,), the turn at each vertex from segment k to k + 1 (K,), and
+    the total turning (rad)."""
+    sg = c.segments()
+    chord = np.arctan2(sg.p1[:, 1] - sg.p0[:, 1], sg.p1[:, 0] - sg.p0[:, 0])
+    start, end = chord - sg.theta / 2, chord + sg.theta / 2          # tangent directions (rad)
+    turn = np.mod(np.roll(start, -1) - end + math.pi, 2 * math.pi) - math.pi
+    return sg.theta, turn, float(sg.theta.sum() + turn.sum())
+
+
+def is_convex(c: Contour) -> bool:
+    """True if ``c`` is a simple convex closed curve (either way round): every arc and every turn
+    at a vertex bends the same way and they add up to one turn (so it cannot cross itself)."""
+    if len(c) < 2:
+        return False
+    theta, turn, total = _turning(c)
+    sign = 1.0 if total > 0 else -1.0
+    return (abs(abs(total) - 2 * math.pi) <= 1e-9 and bool((sign * theta >= 0).all())
+            and bool((sign * turn >= -1e-12).all()))
+
+
+def rolling_radius(c: Contour) -> float:
+    """For a convex contour without corners (every vertex a tangent join: a stadium, the hull of
+    discs), its smallest arc radius R: a disc of radius R rolls freely inside it (Blaschke), so
+    every chord along an inward normal is at least 2R long. 0 for any other contour."""
+    if not is_convex(c):
+        return 0.0
+    _, turn, _ = _turning(c)
+    sg = c.segments()
+    if not (np.abs(turn) <= 1e-9).all() or not sg.is_arc.any():
+        return 0.0
+    return float(np.min(sg.radius[sg.is_arc]))
 
 
 def is_circle(c: Contour) -> tuple[tuple[float, float], float] | None:

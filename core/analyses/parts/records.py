@@ -23,7 +23,7 @@ class Part:
     a drilling pattern (holes only, e.g. a frame's pivots). ``group``: parts of one group keep
     their relative places in the apart layout. ``deviation``: the largest distance (mm) of a
     fitted edge from the exact curve (0: exact lines and arcs). ``keys``: what the user can change
-    when a check fails (scene keys or export options). ``note``: one line for the report."""
+    when a check fails (canonical keys, see :mod:`.keys`). ``note``: one line for the report."""
 
     name: str
     outer: Contour | None
@@ -97,12 +97,14 @@ class Curve:
 @dataclass(frozen=True)
 class PartSet:
     """What a builder makes for one element: its parts (in the element's frame, assembled),
-    the curves drawn beside them, and report lines (``notes``)."""
+    the curves drawn beside them, report lines (``notes``) and ``web_key``, the canonical key
+    (see :mod:`.keys`) that sets the element's minimum web."""
 
     element_id: str
     parts: tuple[Part, ...]
     curves: tuple[Curve, ...] = ()
     notes: tuple[str, ...] = ()
+    web_key: str = "option:min_web"
 
     @property
     def names(self) -> tuple[str, ...]:

@@ -36,7 +36,7 @@ from ..rolling.synthesis import RollingSynthesis
 
 #: tolerances below this are refused (mm): the biarc count grows like tolerance^(-1/3)
 MIN_TOLERANCE = 1e-6
-KEYS_PROFILE = ("stroke", "lever_circle", "slider_circle", "--tolerance", "--depth")
+KEYS_PROFILE = ("stroke", "lever_circle", "slider_circle", "option:tolerance", "option:depth")
 KEYS_LEVER = ("pin_diameter", "lever_circle", "slider_circle", "pin", "drive.coupler_point")
 
 
@@ -44,11 +44,13 @@ KEYS_LEVER = ("pin_diameter", "lever_circle", "slider_circle", "pin", "drive.cou
 class RollingStyle:
     """Sizes (mm): ``depth`` of the frame and slider plates behind their profiles (None: a
     quarter of the profile's chord, at least 3 pin diameters), ``boss`` around the lever's pins
-    (None: one pin diameter), ``tolerance`` of the fitted profiles."""
+    (None: one pin diameter), ``tolerance`` of the fitted profiles; ``depth_name``: how messages
+    name the depth (the front end's option)."""
 
     depth: float | None = None
     boss: float | None = None
     tolerance: float = 0.001
+    depth_name: str = "the plate depth"
 
 
 def _fit(curve_range, tolerance: float, what: str) -> BiarcFit:
@@ -92,11 +94,12 @@ def rolling_parts(res: RollingSynthesis, style: RollingStyle = RollingStyle()) -
     chord = max(float(np.hypot(*(res.P[-1] - res.P[0]))), float(np.hypot(*(res.Q[-1] - res.Q[0]))))
     depth = style.depth if style.depth is not None else max(0.25 * chord, 3 * el.pin_diameter)
     if not (math.isfinite(depth) and depth > 0):
-        raise GeometryError(f"--depth must be a positive number of millimetres; got {depth:g}")
+        raise GeometryError(f"{style.depth_name} must be a positive number of millimetres; got {depth:g}")
     # the lever is on one side of each profile: the material goes to the other
     ends = pose_state(res.geom, res.alpha[[0, -1]], res.theta[[0, -1]])
     away_f = 0.5 * (res.P[0] + res.P[-1]) - 0.5 * (ends.C1[0] + ends.C1[-1])
-    away_s = 0.5 * (res.Q[0] + res.Q[-1]) - np.asarray(el.slider_circle.center, float)
+    lever_side = el.slider_circle.center if el.slider_circle is not None else el.pin
+    away_s = 0.5 * (res.Q[0] + res.Q[-1]) - np.asarray(lever_side, float)
     frame = _backed(frame_fit, away_f, depth, "frame")
     slider = _backed(slider_fit, away_s, depth, "slider")
     pivots = [circle(el.rocker_pivot, r_pin)]
@@ -104,15 +107,24 @@ def rolling_parts(res: RollingSynthesis, style: RollingStyle = RollingStyle()) -
         pivots.append(circle(el.drive.crank_pivot, r_pin))
     pins = [el.pin] + ([el.drive.coupler_point] if el.drive is not None else [])
     u1 = (float(np.min(res.u1)), float(np.max(res.u1)))
-    u2 = (float(np.min(res.u2)), float(np.max(res.u2)))
     lc, sc = el.lever_circle, el.slider_circle
-    lever_outline = fan_outline([(lc.center, lc.radius, u1), (sc.center, sc.radius, u2)]
-                                + [(q, r_pin + boss, None) for q in pins])
+    lever_fit = None
+    if sc is not None:
+        u2 = (float(np.min(res.u2)), float(np.max(res.u2)))
+        pair_e = (sc.center, sc.radius, u2)
+        e_note = f"u2 {math.degrees(u2[0]):.4f}° … {math.degrees(u2[1]):.4f}° on the slider circle (true arcs)"
+    else:   # a slider law: the lever element Π30 is a derived curve, fitted by biarcs
+        lever_fit = _fit(res.lever_profile_e(), tol, "lever element Π30")
+        pair_e = (None, None, lever_fit)
+        e_note = (f"the lever element Π30 (slider law) {len(lever_fit.arcs)} arcs, max deviation "
+                  f"{lever_fit.max_deviation:.3e} mm")
+    lever_outline = fan_outline([(lc.center, lc.radius, u1), pair_e] + [(q, r_pin + boss, None) for q in pins])
     lever = Part("lever", lever_outline, tuple(circle(p, r_pin) for p in pins), group="lever", keys=KEYS_LEVER)
     parts = (
         Part("frame", frame, (), group="frame", deviation=frame_fit.max_deviation, keys=KEYS_PROFILE),
         Part("frame_pivots", None, tuple(pivots), group="frame", keys=("rocker_pivot", "drive.crank_pivot")),
-        lever,
+        lever if lever_fit is None else Part("lever", lever_outline, lever.holes, group="lever",
+                                             deviation=lever_fit.max_deviation, keys=KEYS_LEVER),
         Part("slider", slider, (), group="slider", deviation=slider_fit.max_deviation, keys=KEYS_PROFILE),
     )
     src = ("the exact curve (integrated centrode)" if res.method == "exact" else
@@ -122,8 +134,7 @@ def rolling_parts(res: RollingSynthesis, style: RollingStyle = RollingStyle()) -
              f"slider profile: {len(slider_fit.arcs)} arcs ({slider_fit.spans} biarcs), max deviation "
              f"{slider_fit.max_deviation:.3e} mm (tolerance {tol:g} mm)",
              f"lever: working arcs u1 {math.degrees(u1[0]):.4f}° … {math.degrees(u1[1]):.4f}° on the lever circle, "
-             f"u2 {math.degrees(u2[0]):.4f}° … {math.degrees(u2[1]):.4f}° on the slider circle (true arcs), "
-             f"pin bores Ø{el.pin_diameter:g} mm, bosses {boss:g} mm",
+             f"{e_note}, pin bores Ø{el.pin_diameter:g} mm, bosses {boss:g} mm",
              "frame_pivots: the rocker pivot" + (" and the crank pivot" if el.drive is not None else "")
              + " drilled in the base plate, placed with the frame profile"]
     if res.method != "exact":
@@ -149,22 +160,41 @@ def _tangent(ci: np.ndarray, ri: float, cj: np.ndarray, rj: float) -> tuple[np.n
     raise GeometryError("cannot join the lever's features by a tangent")
 
 
+def _chain(fit: BiarcFit, o: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A biarc chain's vertices (M + 1, 2) and bulges (M,), turned to run counter-clockwise about ``o``."""
+    pts = np.array([a.start for a in fit.arcs] + [fit.arcs[-1].end], dtype=float)
+    bul = np.array([a.bulge for a in fit.arcs])
+    a, b = pts[0] - o, pts[-1] - o
+    if a[0] * b[1] - a[1] * b[0] < 0.0:
+        pts, bul = pts[::-1].copy(), -bul[::-1]
+    return pts, bul
+
+
 def fan_outline(items: list[tuple]) -> Contour:
     """A closed CCW outline through features taken in angular order about their mean point:
-    working arcs (centre, radius, (a, b)) kept whole, bosses (centre, radius, None) wrapped
-    from the incoming to the outgoing tangent, consecutive features joined by outer tangents
-    (an arc's end counts as a point). It may be concave; the part check judges its validity."""
+    working arcs (centre, radius, (a, b)) kept whole, working curves (None, None, a
+    :class:`~..biarc.BiarcFit`: a slider law's lever element) kept whole and run counter-clockwise,
+    bosses (centre, radius, None) wrapped from the incoming to the outgoing tangent, consecutive
+    features joined by outer tangents (an arc's or a curve's end counts as a point). It may be
+    concave; the part check judges its validity."""
     refs = []
     for c, r, span in items:
+        if isinstance(span, BiarcFit):
+            mid = span.arcs[len(span.arcs) // 2]
+            refs.append(np.asarray(mid.start, float))
+            continue
         c = np.asarray(c, float)
         refs.append(c + r * np.array([math.cos(0.5 * (span[0] + span[1])), math.sin(0.5 * (span[0] + span[1]))])
                     if span is not None else c)
     o = np.mean(refs, axis=0)
     order = sorted(range(len(items)), key=lambda k: math.atan2(*(refs[k] - o)[::-1]))
-    feats = [items[k] for k in order]
+    feats = [items[k] if not isinstance(items[k][2], BiarcFit) else (None, None, _chain(items[k][2], o))
+             for k in order]
 
     def ends(f):  # (start disc, end disc) as (centre, radius): an arc's ends are points
         c, r, span = f
+        if isinstance(span, tuple) and len(span) == 2 and isinstance(span[0], np.ndarray):
+            return (span[0][0], 0.0), (span[0][-1], 0.0)
         c = np.asarray(c, float)
         if span is None:
             return (c, r), (c, r)
@@ -180,6 +210,11 @@ def fan_outline(items: list[tuple]) -> Contour:
     for k, (c, r, span) in enumerate(feats):
         arrive = joins[k - 1][1]
         leave = joins[k][0]
+        if isinstance(span, tuple) and len(span) == 2 and isinstance(span[0], np.ndarray):
+            cpts, cbul = span   # a working curve: its vertices and bulges, then the join onwards
+            pts += list(cpts)
+            bul += list(cbul) + [0.0]
+            continue
         if span is not None:
             sweep = span[1] - span[0]
         else:

@@ -384,6 +384,8 @@ def rates(geom: LeverGeometry, alpha: np.ndarray, theta: np.ndarray) -> tuple[np
     c = w[:, 0] * sa - w[:, 1] * ca
     d1 = (geom.R1 - c) * (geom.R1 + c)   # = b² − (|w|² − R1²), without the cancellation
     g = contact_distance(geom, alpha, theta, b, d1)
+    if geom.law is not None:   # pair E from the prescribed law: dS5/dθ = S5'(θ)
+        return 1.0 - g / geom.ell, geom.law.rates(theta) + 0.0 * g
     z = np.asarray(geom.G) + g[:, None] * np.stack([ca, sa], axis=-1) - (F + rot(theta, np.asarray(geom.c2) - f))
     n = np.asarray(geom.n)
     zn = z @ n

@@ -31,6 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...model.rolling_lever import RollingLever, coincidence_tolerance
+from .slider_law import LawCurve
 
 FloatArray = np.ndarray
 
@@ -50,13 +51,21 @@ class LeverGeometry:
     branch: int  # −1 near, +1 far: branch of the rocker-line intersection
     ell: float
     alpha0: float
+    #: a prescribed slider law (pair E from k53 = S5'(θ), :mod:`.law`) instead of the slider circle;
+    #: then ``c2`` is the pin and ``R2`` 0 (unused)
+    law: LawCurve | None = None
 
     @classmethod
     def from_element(cls, el: RollingLever) -> "LeverGeometry":
+        sc, law = el.slider_circle, None
+        if el.slider_law is not None:
+            c2, r2, law = el.pin, 0.0, LawCurve(el.slider_law, el.stroke)
+        else:
+            c2, r2 = sc.center, sc.radius
         return cls(G=el.rocker_pivot, f=el.pin, c1=el.lever_circle.center, R1=el.lever_circle.radius,
-                   c2=el.slider_circle.center, R2=el.slider_circle.radius, ds=el.slider_axis,
+                   c2=c2, R2=r2, ds=el.slider_axis,
                    side=int(el.slider_side), branch=1 if el.contact_branch == "far" else -1,
-                   ell=el.rocker_length, alpha0=el.rocker_angle0)
+                   ell=el.rocker_length, alpha0=el.rocker_angle0, law=law)
 
     @property
     def n(self) -> tuple[float, float]:
@@ -238,9 +247,13 @@ def pair_e(geom: LeverGeometry, F: FloatArray, theta: FloatArray, P: FloatArray)
     Returns (C2, D2, t2, P0, u2): the moved slider-circle centre (N, 2), the discriminant (N,) mm²,
     the signed distance t2 = (P0 − P)·n (N,) mm (k53 = −t2), the contact P0 (N, 2) on the normal to
     the slider axis through P, and its angle u2 on the slider circle in the lever frame (N,) rad.
-    NaN where the normal misses the circle.
+    NaN where the normal misses the circle. With a slider law: t2 = −S5'(θ) (P0 is the relative
+    instant centre, :mod:`.law`), D2 = 1, C2 the pin and u2 = θ (the profile's parameter).
     """
     C2 = F + rot(theta, np.asarray(geom.c2) - np.asarray(geom.f))
+    if geom.law is not None:
+        t2 = -geom.law.rates(theta)
+        return C2, np.ones_like(t2), t2, P + t2[:, None] * np.asarray(geom.n), np.array(theta, dtype=float)
     n = np.asarray(geom.n)
     z = P - C2
     zn = z @ n
@@ -287,6 +300,7 @@ class ScalarKernel:
         self.side = float(geom.side)
         self.nx, self.ny = geom.n
         self.dsx, self.dsy = geom.ds
+        self.law = geom.law
         self.reason = 0
 
     def _pair_d(self, a: float, th: float):
@@ -329,6 +343,8 @@ class ScalarKernel:
         d = self._pair_d(a, th)
         if d is None:
             return None
+        if self.law is not None:   # pair E from the prescribed law: dS5/dθ = k53 = S5'(θ)
+            return 1.0 - d[0] / self.ell, self.law.rate(th)
         e = self._t2(*d)
         if e is None:
             return None
@@ -339,7 +355,7 @@ class ScalarKernel:
         d = self._pair_d(a, th)
         if d is None:
             return None
-        e = self._t2(*d)
+        e = self._t2(*d) if self.law is None else (-self.law.rate(th), self.gx + d[0] * d[1], self.gy + d[0] * d[2])
         if e is None:
             return None
         t2, px, py = e

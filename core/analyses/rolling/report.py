@@ -40,6 +40,14 @@ def summary(res: "RollingSynthesis") -> str:
                      f"lever arc at θ = {el.stroke.end:.6f} rad)")
     lines.append(f"pair E: k53 {_rng(res.k53, '.6g')} mm/rad; S5 {_rng(res.S5, '.6g')} mm "
                  f"(travel {float(np.nanmax(res.S5) - np.nanmin(res.S5)):.6g} mm)")
+    if el.slider_law is not None:
+        law = el.slider_law
+        what = (f"a table of {len(law.table)} points (quintic spline)" if law.kind == "table"
+                else f"{law.kind}, travel {law.travel:g} mm over the stroke")
+        lines.append(f"slider law S5(θ): {what}; the lever element Π30 and the slider profile Π50 are the exact "
+                     "centrodes of the lever/slider relative motion (k53 = dS5/dθ)")
+        if res.law is not None:
+            lines += [f"  {line}" for line in res.law.lines()]
     if res.method == "exact":
         lines.append(f"time: {res.time_s * 1e3:.2f} ms (integration in {len(res.path.theta) - 1} adaptive steps, "
                      f"{res.path.evaluations} evaluations, working range included); integration error "

@@ -162,13 +162,21 @@ class PointMeasures:
     deviation: float
 
 
-def kinematic_slip_terms(geom: LeverGeometry, theta, F, u1, u2, S5) -> tuple[np.ndarray, np.ndarray]:
+def _lever_points(geom: LeverGeometry, theta, F, P0) -> np.ndarray:
+    """Pair-E contacts P0 (N, 2) mm moved into the lever frame (the lever element Π30's points)."""
+    return rot(-np.asarray(theta, dtype=float), np.asarray(P0, dtype=float) - np.asarray(F, dtype=float)) \
+        + np.asarray(geom.f)
+
+
+def kinematic_slip_terms(geom: LeverGeometry, theta, F, u1, u2, S5, P0=None) -> tuple[np.ndarray, np.ndarray]:
     """Per-interval kinematic slip of pairs D and E (N,) mm between construction points k and k+1.
 
     Pair D: |X_{k+1}(m_k) − X_k(m_k)|, m_k the lever point at mid-arc of the lever circle between
     u1_k and u1_{k+1}; pair E: the same for the slider-circle point, relative to the slider (its
     travel ΔS5 along the axis removed). ``theta`` (N+1,) rad, ``F`` (N+1, 2) mm, ``u1``/``u2``
     (N+1,) rad unwrapped, ``S5`` (N+1,) mm. The sums are :class:`PointMeasures`' kinematic slips.
+    With a slider law (no slider circle) the pair-E lever point is the chord midpoint of the lever
+    element between the contacts ``P0`` (N+1, 2) mm of k and k+1 (in the lever frame).
     """
     f = np.asarray(geom.f)
     F = np.asarray(F, dtype=float)
@@ -180,6 +188,12 @@ def kinematic_slip_terms(geom: LeverGeometry, theta, F, u1, u2, S5) -> tuple[np.
         return (F[1:] + rot(theta[1:], m - f)) - (F[:-1] + rot(theta[:-1], m - f))
 
     d = np.linalg.norm(moved(geom.c1, geom.R1, np.asarray(u1, dtype=float)), axis=1)
+    if geom.law is not None:
+        lev = _lever_points(geom, theta, F, P0)
+        m = 0.5 * (lev[1:] + lev[:-1])
+        rel = (F[1:] + rot(theta[1:], m - f)) - (F[:-1] + rot(theta[:-1], m - f)) \
+            - np.diff(S5)[:, None] * np.asarray(geom.ds)
+        return d, np.linalg.norm(rel, axis=1)
     rel = moved(geom.c2, geom.R2, np.asarray(u2, dtype=float)) - np.diff(S5)[:, None] * np.asarray(geom.ds)
     return d, np.linalg.norm(rel, axis=1)
 
@@ -189,10 +203,12 @@ def running_sum(terms: np.ndarray) -> np.ndarray:
     return np.concatenate([[0.0], np.cumsum(terms)])
 
 
-def point_measures(geom: LeverGeometry, theta, alpha, F, P, u1, u2, S5, ref: ExactReference | None) -> PointMeasures:
-    """Measures of construction points k = 0…N (arrays (N+1,) rad / (N+1, 2) mm); u1, u2 unwrapped."""
+def point_measures(geom: LeverGeometry, theta, alpha, F, P, u1, u2, S5, ref: ExactReference | None,
+                   P0=None) -> PointMeasures:
+    """Measures of construction points k = 0…N (arrays (N+1,) rad / (N+1, 2) mm); u1, u2 unwrapped
+    (``P0``: the pair-E contacts, needed with a slider law)."""
     arc = float(np.sum(np.hypot(*np.diff(P, axis=0).T)) - geom.R1 * abs(u1[-1] - u1[0]))
-    d, e_terms = kinematic_slip_terms(geom, theta, F, u1, u2, S5)
+    d, e_terms = kinematic_slip_terms(geom, theta, F, u1, u2, S5, P0)
     slip, slip_e = float(running_sum(d)[-1]), float(running_sum(e_terms)[-1])
     e = (F - np.asarray(geom.G)) / geom.ell
     r = P - np.asarray(geom.G)
@@ -219,9 +235,9 @@ class SlipSamples:
     source: str
 
 
-def point_slip_samples(geom: LeverGeometry, theta, F, u1, u2, S5) -> SlipSamples:
+def point_slip_samples(geom: LeverGeometry, theta, F, u1, u2, S5, P0=None) -> SlipSamples:
     """:class:`SlipSamples` of construction points (running sums of :func:`kinematic_slip_terms`)."""
-    d, e = kinematic_slip_terms(geom, theta, F, u1, u2, S5)
+    d, e = kinematic_slip_terms(geom, theta, F, u1, u2, S5, P0)
     return SlipSamples(np.asarray(theta, dtype=float), running_sum(d), running_sum(e), "points")
 
 
@@ -331,7 +347,7 @@ class ContinuousMeasures:
     length_fixed: float  # ∫|dP/dθ|
     length_moving: float  # R1 ∫|du1/dθ|
     length_slider: float  # ∫|dQ/dθ|
-    length_lever_e: float  # R2 ∫|du2/dθ|
+    length_lever_e: float  # R2 ∫|du2/dθ| (with a slider law: ∫|dΠ30/dθ| in the lever frame)
 
     @property
     def mismatch_d(self) -> float:
@@ -395,6 +411,9 @@ def continuous_slip(path: ExactPath, start: float, end: float,
     du2 = np.zeros_like(q)
     ds = np.asarray(geom.ds)
     Qc = st_c.P0 - s_c[:, None] * ds
+    law = geom.law is not None
+    dL = np.zeros((len(q), 2))       # the lever element Π30 (slider law): its lever-frame points
+    Lc = _lever_points(geom, q, st_c.F, st_c.P0) if law else None
     for o, c in zip(offs, coef):
         a, s5, st = evaluate(q + o * eta)
         da += c * (a - a_c)
@@ -403,6 +422,8 @@ def continuous_slip(path: ExactPath, start: float, end: float,
         dQ += c * ((st.P0 - s5[:, None] * ds) - Qc)
         du1 += c * _wrap(st.u1 - st_c.u1)
         du2 += c * _wrap(st.u2 - st_c.u2)
+        if law:
+            dL += c * (_lever_points(geom, q + o * eta, st.F, st.P0) - Lc)
     da, ds5, du1, du2 = (x / eta for x in (da, ds5, du1, du2))
     dP, dQ = dP / eta[:, None], dQ / eta[:, None]
     slip_d = geom.ell * np.abs(da - st_c.rate)
@@ -417,7 +438,7 @@ def continuous_slip(path: ExactPath, start: float, end: float,
     step_e = (w * slip_e).reshape(n_int, -1).sum(axis=1)
     out = [0.0, 0.0, float(w @ np.linalg.norm(dP, axis=1)),
            float(geom.R1 * (w @ np.abs(du1))), float(w @ np.linalg.norm(dQ, axis=1)),
-           float(geom.R2 * (w @ np.abs(du2)))]
+           float(w @ np.linalg.norm(dL / eta[:, None], axis=1)) if law else float(geom.R2 * (w @ np.abs(du2)))]
     # jumps of the computed motion at inner mesh nodes (dense value from the left against the node)
     inner = np.flatnonzero((th > lo) & (th < hi))
     inner = inner[inner > 0]
@@ -434,7 +455,11 @@ def continuous_slip(path: ExactPath, start: float, end: float,
         qn = node.P0 - path.S5[inner][:, None] * ds
         ql = left.P0 - s_l[:, None] * ds
         out[4] += float(np.sum(np.linalg.norm(qn - ql, axis=1)))
-        out[5] += float(geom.R2 * np.sum(np.abs(_wrap(node.u2 - left.u2))))
+        if law:
+            jump = _lever_points(geom, th[inner], node.F, node.P0) - _lever_points(geom, th[inner], left.F, left.P0)
+            out[5] += float(np.sum(np.linalg.norm(jump, axis=1)))
+        else:
+            out[5] += float(geom.R2 * np.sum(np.abs(_wrap(node.u2 - left.u2))))
     cum_d, cum_e = running_sum(step_d), running_sum(step_e)
     out[0], out[1] = float(cum_d[-1]), float(cum_e[-1])
     if not all(math.isfinite(x) for x in out):

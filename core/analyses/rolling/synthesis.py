@@ -20,7 +20,8 @@ from ...errors import GeometryError
 from ...model.rolling_lever import METHODS, RollingLever
 from .drive import DriveSynthesis, synthesize_drive
 from .exact import ExactPath, WorkingRange, exact_path, march_limit
-from .geometry import LeverGeometry, PoseState, pose_state, slider_point
+from .geometry import LeverGeometry, PoseState, pose_state, rot, slider_point
+from .law import LawChecks, law_checks
 from .paper import construct
 from .slip import (ContinuousMeasures, ExactReference, NaturalSpline, PhysicalSlip, PointMeasures,
                            SlipSamples, continuous_slip, physical_slip, point_measures, point_slip_samples,
@@ -85,6 +86,8 @@ class RollingSynthesis:
     time_exact_s: float = math.nan
     drive: DriveSynthesis | None = None
     slip: SlipReport | None = None
+    #: with a slider law: pure rolling, cusps, working side, S5 reproduced (:mod:`.law`), with the measures
+    law: LawChecks | None = None
     _ref: ExactReference | None = field(default=None, repr=False)
 
     @property
@@ -131,6 +134,21 @@ class RollingSynthesis:
         sp = NaturalSpline(self.Q)
         return sp.eval, 0.0, sp.length_param
 
+    @property
+    def lever_e_points(self) -> np.ndarray:
+        """The pair-E contacts P0 at the samples in the lever frame (N+1, 2) mm: points of the slider
+        circle, or with a slider law of the lever element Π30."""
+        return rot(-np.asarray(self.theta, dtype=float), self.P0 - self.F) + np.asarray(self.geom.f)
+
+    def lever_profile_e(self) -> tuple[Callable[[np.ndarray], np.ndarray], float, float]:
+        """(curve, θ0, θ1): with a slider law, the lever element Π30 - the pair-E contact P0 in the
+        lever frame (the drawn pose) - as a curve θ -> (M, 2) mm over the stroke (exact method)."""
+        def curve(t):
+            a, _ = self.path.at(t)
+            st = pose_state(self.geom, a, t)
+            return rot(-np.asarray(t, dtype=float), st.P0 - st.F) + np.asarray(self.geom.f)
+        return curve, float(self.theta[0]), float(self.theta[-1])
+
     def reference(self) -> ExactReference:
         """A tight exact reference centrode covering the stroke (built once, on demand)."""
         if self._ref is None:
@@ -172,6 +190,9 @@ def synthesize(element: RollingLever, method: str | None = None, points: int | N
     method = element.method if method is None else method
     if method not in METHODS:
         raise GeometryError(f"unknown synthesis method {method!r} (methods: {', '.join(METHODS)})")
+    if element.slider_law is not None and method != "exact":
+        raise GeometryError(f"rolling lever {element.id!r} has a slider law: only the exact method synthesises "
+                            f"it (the {method} construction needs a slider circle)")
     n = element.points if points is None else int(points)
     if n < 2:
         raise GeometryError(f"points must be at least 2, got {n}")
@@ -215,6 +236,9 @@ def synthesize(element: RollingLever, method: str | None = None, points: int | N
                                         element.drive.coupler_point)
     if measures:
         result.slip = slip_report(result, physical_range)
+        if geom.law is not None:
+            c = result.slip.continuous
+            result.law = law_checks(result, (c.length_lever_e, c.length_slider) if c is not None else None)
     return result
 
 
@@ -224,14 +248,14 @@ def slip_report(res: RollingSynthesis, physical_range: tuple[float, float] | Non
     t0 = time.perf_counter()
     geom = res.geom
     ref = res.reference()
-    pm = point_measures(geom, res.theta, res.alpha, res.F, res.P, res.u1, res.u2, res.S5, ref)
+    pm = point_measures(geom, res.theta, res.alpha, res.F, res.P, res.u1, res.u2, res.S5, ref, res.P0)
     lo, hi = (None, None) if physical_range is None else physical_range
     ph = physical_slip(geom, res.P, res.theta, res.alpha, lo, hi)
     stroke = res.element.stroke
     if res.method == "exact":
         cont, samples = continuous_slip(res.path, stroke.start, stroke.end, grid=res.theta)
     else:
-        cont, samples = None, point_slip_samples(geom, res.theta, res.F, res.u1, res.u2, res.S5)
+        cont, samples = None, point_slip_samples(geom, res.theta, res.F, res.u1, res.u2, res.S5, res.P0)
     refined = None
     refined_error = None
     if refine and res.method != "exact":

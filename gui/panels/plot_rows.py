@@ -1,0 +1,122 @@
+"""One row of the plots panel: a legend line above a plot, made once and re-used for ever.
+
+A :class:`PlotRow` is a small widget: a rich-text legend (the curves' colours and names, with
+their values at the read-out point) above a pyqtgraph plot at a readable height, with a dashed
+cursor line. Its curves come from a pool that only grows: a curve no longer needed is emptied
+and hidden, never deleted. The panel keeps every row it ever made, so no Qt object of the plots
+is deleted while the panel lives: a pending pyqtgraph update (auto-range, hover, paint) never
+meets a deleted plot (issue 20, item 9).
+"""
+from __future__ import annotations
+
+import html
+from dataclasses import dataclass
+
+import numpy as np
+import pyqtgraph as pg
+from PySide6.QtCore import Qt
+from PySide6.QtWidgets import QLabel, QSizePolicy, QVBoxLayout, QWidget
+
+#: the least height of a plot (px): tick labels, the axis title and the curves stay readable;
+#: the panel's column scrolls rather than squeezing the plots below it
+ROW_HEIGHT = 170
+COLORS = ("#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b")
+
+
+@dataclass(frozen=True)
+class Curve:
+    """One curve to draw in a row: ``name`` (unique in the panel), ``unit``, x and y (N,)."""
+
+    name: str
+    unit: str
+    x: np.ndarray
+    y: np.ndarray
+
+
+def _value_text(v: float) -> str:
+    return "—" if not np.isfinite(v) else f"{v:.5g}"
+
+
+class PlotRow(QWidget):
+    """A legend line above one plot; see the module docstring. ``plot`` is the PlotItem,
+    ``cursor`` its InfiniteLine, ``curves`` name -> the PlotDataItem drawing it now."""
+
+    def __init__(self, name: str, parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.name = name
+        self.setObjectName(f"plotRow:{name}")
+        self.legend = QLabel()
+        self.legend.setObjectName("plotLegend")
+        self.legend.setTextFormat(Qt.TextFormat.RichText)
+        self.legend.setWordWrap(True)
+        self.legend.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Preferred)
+        self.widget = pg.PlotWidget(background="w")
+        self.widget.setMinimumHeight(ROW_HEIGHT)
+        # its size hint (640 x 480) is not a wish: each plot takes ROW_HEIGHT and shares what is left
+        self.widget.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Ignored)
+        self.plot: pg.PlotItem = self.widget.getPlotItem()
+        self.plot.showGrid(x=True, y=True, alpha=0.25)
+        for axis in ("left", "bottom"):   # major ticks only: the minor grid halves the drag frame rate
+            self.plot.getAxis(axis).setStyle(maxTickLevel=0)
+        self.plot.setMenuEnabled(False)
+        self.plot.hideButtons()
+        self.cursor = pg.InfiniteLine(angle=90, movable=False,
+                                      pen=pg.mkPen("#555", width=1, style=Qt.PenStyle.DashLine))
+        self.plot.addItem(self.cursor, ignoreBounds=True)
+        self._pool: list[pg.PlotDataItem] = []
+        self.curves: dict[str, pg.PlotDataItem] = {}
+        self._shown: list[Curve] = []
+        layout = QVBoxLayout(self)
+        layout.setContentsMargins(0, 2, 0, 2)
+        layout.setSpacing(0)
+        layout.addWidget(self.legend)
+        layout.addWidget(self.widget, 1)
+
+    # -- curves ------------------------------------------------------------------------------
+    def set_curves(self, curves: list[Curve]) -> None:
+        """Draw ``curves`` (the pool's first items take them, in order; the rest are emptied)."""
+        same_names = [c.name for c in curves] == [c.name for c in self._shown]
+        self.curves = {}
+        for k, c in enumerate(curves):
+            if k == len(self._pool):
+                item = pg.PlotDataItem()
+                self.plot.addItem(item)
+                self._pool.append(item)
+            item = self._pool[k]
+            if not same_names:
+                item.setPen(pg.mkPen(COLORS[k % len(COLORS)], width=1))
+            item.setData(c.x, c.y, connect="finite")
+            item.setVisible(True)
+            self.curves[c.name] = item
+        for item in self._pool[len(curves):]:
+            if item.isVisible():
+                item.setData([], [])
+                item.setVisible(False)
+        self._shown = list(curves)
+
+    def set_labels(self, y_label: str, x_label: str, last: bool, si_prefix: bool) -> None:
+        """The y-axis title; the x-axis title (shown on the last row only)."""
+        left, bottom = self.plot.getAxis("left"), self.plot.getAxis("bottom")
+        if left.autoSIPrefix != si_prefix:   # (each call re-renders the axis title)
+            left.enableAutoSIPrefix(si_prefix)
+        if left.labelText != y_label:
+            self.plot.setLabel("left", y_label)
+        if bottom.labelText != x_label:
+            self.plot.setLabel("bottom", x_label)
+        if bottom.label.isVisible() != last:
+            bottom.showLabel(last)
+
+    # -- legend and read-out ------------------------------------------------------------------
+    def show_legend(self, at: float | None = None, x_text: str = "") -> None:
+        """The legend line: each curve's colour, name and unit; with ``at`` (an x value), each
+        curve's value there (the nearest sample of its own x), after ``x_text``."""
+        parts = []
+        for k, c in enumerate(self._shown):
+            swatch = f'<span style="color:{COLORS[k % len(COLORS)]}">&#9632;</span>'
+            text = f"{swatch}&nbsp;{html.escape(c.name)}"
+            if at is not None and c.x.size:
+                i = int(np.nanargmin(np.abs(c.x - at))) if np.isfinite(c.x).any() else 0
+                text += f" = {_value_text(float(c.y[i]))}"
+            parts.append(f"{text}&nbsp;{html.escape(c.unit)}")
+        lead = f"<b>{html.escape(x_text)}</b>&nbsp;&nbsp;" if at is not None and x_text else ""
+        self.legend.setText(lead + "&nbsp;&nbsp; ".join(parts))
