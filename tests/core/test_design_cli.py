@@ -8,7 +8,6 @@ import os
 
 import numpy as np
 import pytest
-from design_atlas_fixture import atlas_cache  # noqa: F401  (fixture)
 
 from mechsketch.core.cli import main
 from mechsketch.core.design import families as F

@@ -14,7 +14,6 @@ import math
 
 import numpy as np
 import pytest
-from design_atlas_fixture import atlas_cache  # noqa: F401  (fixture)
 from scipy.optimize import minimize_scalar
 
 from mechsketch.core.design import families as F
