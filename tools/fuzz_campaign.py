@@ -46,7 +46,8 @@ import numpy as np
 
 EXAMPLES_DIR = Path(__file__).resolve().parents[1] / "resources" / "examples"
 CASES_DIR = Path(__file__).resolve().parents[2] / "shared" / "cases" / "s3"
-TIME_LIMIT = 30
+TIME_LIMIT = 30        # CPU seconds per command before it counts as a hang
+WALL_LIMIT = 600       # wall seconds (a blocked read uses no CPU)
 FLOATS = [0.0, -0.0, 5e-324, -5e-324, 1e-300, -1e-9, 1e-7, 1.0, -1.0, 1e9, 1e9 + 0.5, 1e10, 1e300,
           1.7976931348623157e308, math.nan, math.inf, -math.inf]
 INTS = [0, 1, 2, 3, 4, 12, 16, -1, 360, 361, 100_000, 1_000_000, 10 ** 400]
@@ -159,12 +160,14 @@ def mutate(doc: dict, rng: np.random.Generator) -> tuple[str, dict]:
 
 def _run(main, argv: list[str]) -> tuple[int, str]:
     out, err = io.StringIO(), io.StringIO()
-    signal.alarm(TIME_LIMIT)
+    signal.setitimer(signal.ITIMER_PROF, TIME_LIMIT)   # CPU seconds: a loaded machine is no hang
+    signal.alarm(WALL_LIMIT)                           # and a blocked read (no CPU) still is one
     try:
         with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
             code = main(argv)
     finally:
         signal.alarm(0)
+        signal.setitimer(signal.ITIMER_PROF, 0)
     return code, out.getvalue() + err.getvalue()
 
 
@@ -262,8 +265,10 @@ def check_continuity(rows: list[dict], cols: list[str], size: float, dead: list[
         if not (a.get("rates_valid") == b.get("rates_valid") == "1"):
             continue
         dt = float(b["t"]) - float(a["t"])
-        if not dt > 0 or any(_between(float(a["input"]), float(b["input"]), x, crank) for x in dead):
-            continue   # a dead point the summary reports lies between these rows
+        lo, hi = sorted((float(a["input"]), float(b["input"])))
+        step = hi - lo   # a reported dead point between these rows or within a step of them: near an
+        if not dt > 0 or any(_between(lo - step, hi + step, x, crank) for x in dead):   # assembly limit
+            continue     # the motion goes as the root of the distance to it, far under-sampled
         for j in joints:
             for ax in ("x", "y"):
                 dx = float(b[f"{j}.{ax}"]) - float(a[f"{j}.{ax}"])
@@ -290,11 +295,15 @@ def check_any_csv(path: Path) -> list[str]:
     return bad
 
 
-def one_input(main, name: str, doc: dict, rng: np.random.Generator, folder: Path) -> tuple[str, list[dict]]:
+def one_input(main, name: str, doc: dict, rng: np.random.Generator, folder: Path,
+              keep: str | None = None) -> tuple[str, list[dict]]:
     kind, doc = mutate(doc, rng)
     text = json.dumps(doc, allow_nan=True)
     scene = folder / "scene.json"
     scene.write_text(text)
+    inflight = Path(keep) / f"inflight.{os.getpid()}.{name}.json" if keep else None
+    if inflight is not None:   # stays behind if the worker dies on this input (a crash's repro)
+        inflight.write_text(text)
     el = doc["elements"][0] if isinstance(doc.get("elements"), list) and doc["elements"] else {}
     typ = el.get("type") if isinstance(el, dict) else None
     cmds = [["validate", str(scene)], ["analyze", str(scene), "--csv", str(folder / "a.csv"), "--summary"]]
@@ -325,6 +334,8 @@ def one_input(main, name: str, doc: dict, rng: np.random.Generator, folder: Path
             bad = check_linkage_csv(f, el, dead) if typ == "linkage" else check_any_csv(f)
             if bad:
                 findings.append({"kind": "invalid-row", "argv": " ".join(argv[:1] + argv[2:3]), "rows": bad[:3]})
+    if inflight is not None:
+        inflight.unlink()
     for fd in findings:
         fd.update(example=name, strategy=kind)
     if findings:
@@ -340,6 +351,7 @@ def worker(seed: int, count: int, keep: str) -> None:
         raise Hang()
 
     signal.signal(signal.SIGALRM, on_alarm)
+    signal.signal(signal.SIGPROF, on_alarm)
     from mechsketch.core.cli import main
 
     docs = _docs()
@@ -350,7 +362,7 @@ def worker(seed: int, count: int, keep: str) -> None:
         for _ in range(count):
             name = names[int(rng.integers(0, len(names)))]
             t0 = time.perf_counter()
-            kind, findings = one_input(main, name, docs[name], rng, folder)
+            kind, findings = one_input(main, name, docs[name], rng, folder, keep)
             for kept in folder.glob(f"{name}.*.json"):
                 kept.replace(Path(keep) / kept.name)
             print(json.dumps({"example": name, "strategy": kind, "seconds": time.perf_counter() - t0,
@@ -392,6 +404,8 @@ def main() -> int:
         if p.returncode != 0 or len(lines) < count:
             crashes.append({"seed": seed, "returncode": p.returncode, "inputs_done": len(lines),
                             "stderr": err[-500:]})
+            print(f"crash: worker seed {seed} exit {p.returncode} after {len(lines)} of {count} inputs; "
+                  f"stderr: {err[-1500:]}", file=sys.stderr)
         print(f"{done}/{args.inputs} inputs, {len(findings)} findings, {len(crashes)} crashes, "
               f"{time.time() - t0:.0f} s", file=sys.stderr)
     kinds: dict[str, int] = {}
