@@ -115,7 +115,8 @@ def finish(designs: Iterable[Design], options: LinkageOptions, size: float, clos
     if over:
         dev, unit = min(over)
         n = refused.pop(_OVER, 0)
-        refused[f"a largest deviation above the {options.max_deviation:g} {unit} asked (the closest: {dev:.4g} {unit})"] = n
+        why = f"{_OVER_PREFIX} {options.max_deviation:g} {unit} asked (the closest: {dev:.4g} {unit})"
+        refused[why] = n
     return out, refused
 
 

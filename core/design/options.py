@@ -28,7 +28,8 @@ class LinkageOptions:
     target sizes of the target's centre, and no link is longer (a guard against pivots at
     infinity); ``max_deviation``: a candidate's largest deviation from the target (mm for a path
     or poses, the output's unit for a function) must not exceed it (None: the best that can be
-    had; with it, a target no linkage asked for reaches that closely is refused); ``speed_rpm``, ``samples``: the candidates' driver speed and samples per cycle;
+    had; with it, a target no linkage asked for reaches that closely is refused); ``speed_rpm``,
+    ``samples``: the candidates' driver speed and samples per cycle;
     ``prefix``: the candidates' element ids are ``prefix_1``, ``prefix_2``, ..."""
 
     candidates: int = 5
