@@ -388,8 +388,12 @@ def worker(seed: int, count: int, keep: str) -> None:
             kind, findings = one_input(main, name, docs[name], rng, folder, keep)
             for kept in folder.glob(f"{name}.*.json"):
                 kept.replace(Path(keep) / kept.name)
-            print(json.dumps({"example": name, "strategy": kind, "seconds": time.perf_counter() - t0,
-                              "findings": findings}), flush=True)
+            line = json.dumps({"example": name, "strategy": kind, "seconds": time.perf_counter() - t0,
+                               "findings": findings})
+            print(line, flush=True)
+            if findings:   # seen at once, not only when the chunk ends
+                with open(Path(keep) / f"findings.{os.getpid()}.jsonl", "a") as log:
+                    log.write(line + "\n")
 
 
 def main() -> int:
@@ -414,8 +418,9 @@ def main() -> int:
     while chunks or running:
         while chunks and len(running) < args.jobs:
             seed, count = chunks.pop(0)
+            env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1", MKL_NUM_THREADS="1")
             p = subprocess.Popen([sys.executable, __file__, "--worker", str(seed), str(count), "--keep", args.keep],
-                                 stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                                 stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
             running.append((p, (seed, count)))
         p, (seed, count) = running.pop(0)
         out, err = p.communicate()
