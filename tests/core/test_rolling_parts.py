@@ -161,3 +161,28 @@ def test_fastener_and_base_plate_options_are_refused_where_they_do_not_apply(tmp
     assert main(["export", rl, "--dxf", str(tmp_path / "b.dxf"), "--fasteners", "30"]) == 1
     assert "below half the plate depth" in capsys.readouterr().err
     assert not (tmp_path / "g.dxf").exists() and not (tmp_path / "b.dxf").exists()
+
+
+@pytest.mark.parametrize("to", [1e-7, -1e-9])
+def test_a_stroke_too_short_to_cut_is_a_warning_of_validate_and_an_error_of_export(tmp_path, capsys, to):
+    """Fuzzing found an IndexError from validate: a stroke of 1e-7 rad leaves profiles shorter than
+    the fitting tolerance, and the biarc fit (which drops slivers) returned no arc at all."""
+    import dataclasses
+
+    from mechsketch.core import save_scene
+    from mechsketch.core.cli import main
+    from mechsketch.core.model.scene import Scene
+
+    (el,) = load_scene(resources.example_path("rolling_lever_press")).elements
+    short = dataclasses.replace(el, stroke=dataclasses.replace(el.stroke, end=to))
+    path = tmp_path / "short.json"
+    save_scene(Scene((short,)), path)
+    with pytest.raises(GeometryError, match="profile.*shorter than.*stroke"):
+        rolling_parts(synthesize(short, measures=False))
+    assert main(["validate", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "profile" in out and "stroke" in out
+    dxf = tmp_path / "short.dxf"
+    assert main(["export", str(path), "--dxf", str(dxf)]) == 1
+    err = capsys.readouterr().err
+    assert "frame profile" in err and "widen the stroke" in err and not dxf.exists()

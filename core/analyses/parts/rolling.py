@@ -60,9 +60,15 @@ class RollingStyle:
 def _fit(curve_range, tolerance: float, what: str) -> BiarcFit:
     curve, t0, t1 = curve_range
     try:
-        return fit_biarcs(curve, t0, t1, tolerance)
+        fit = fit_biarcs(curve, t0, t1, tolerance)
     except (ValueError, GeometryError) as exc:
         raise GeometryError(f"cannot fit the {what} within {tolerance:g} mm: {exc}") from None
+    if not fit.arcs:   # every piece shorter than the slivers the fit drops
+        ends = np.asarray(curve(np.array([t0, t1])), float).reshape(2, 2)
+        length = float(np.hypot(*(ends[1] - ends[0])))
+        raise GeometryError(f"the {what} is {length:.3g} mm long, shorter than the fitting tolerance "
+                            f"({tolerance:g} mm): nothing can be cut; widen the stroke")
+    return fit
 
 
 def _backed(fit: BiarcFit, away: np.ndarray, depth: float, kind: str) -> Contour:
