@@ -1,8 +1,8 @@
 """The big GUI monkey run (issue 20, done-when): many thousand seeded random user events on the
-whole app, counting tracebacks, hangs and crashes. Not a test (tests/gui/test_monkey.py runs a
-bounded version in CI). From the repository root::
+whole app (the monkey: tests/gui/monkey.py), counting tracebacks, hangs and crashes. Not a test
+(tests/gui/test_monkey.py runs a bounded version in CI). From the repository root::
 
-    .venv/bin/python tests/gui/run_monkey.py --events 10000 [--seed N] [--runs K]
+    .venv/bin/python tools/gui_monkey.py --events 10000 [--seed N] [--runs K] [--hang S]
 
 Each run is a child process (offscreen Qt) so that a crash is counted, not suffered: its exit
 status says how it ended (a signal is a crash), a single event blocking for ``--hang`` seconds
@@ -22,7 +22,7 @@ import tempfile
 import time
 from pathlib import Path
 
-HERE = Path(__file__).resolve().parent
+HERE = Path(__file__).resolve().parents[1] / "tests" / "gui"   # the monkey and the app's test fakes
 HANG_EXIT = 3
 
 
@@ -56,8 +56,15 @@ def child(events: int, seed: int, hang: float) -> int:
     parts.window.show()
     started = time.perf_counter()
 
+    slowest = [0.0, 0]
+    last = [time.perf_counter()]
+
     def watchdog(k: int) -> None:   # re-armed after every event: one event may take `hang` s
         faulthandler.dump_traceback_later(hang, exit=True)
+        now = time.perf_counter()
+        if now - last[0] > slowest[0]:
+            slowest[:] = [now - last[0], k]
+        last[0] = now
 
     faulthandler.dump_traceback_later(hang, exit=True)
     monkey, errors = run(parts, _Bot(), events, seed=seed, on_event=watchdog)
@@ -65,7 +72,9 @@ def child(events: int, seed: int, hang: float) -> int:
     seconds = time.perf_counter() - started
     if errors:
         print(errors[0], file=sys.stderr)
-    print(json.dumps({"steps": monkey.steps, "events": len(monkey.log), "tracebacks": len(errors), "seconds": round(seconds, 1)}))
+    print(json.dumps({"steps": monkey.steps, "events": len(monkey.log), "tracebacks": len(errors),
+                      "seconds": round(seconds, 1), "slowest_step_s": round(slowest[0], 2),
+                      "slowest_step": slowest[1], "load": os.getloadavg()[0]}))
     parts.autosave.stop()
     sys.stdout.flush()
     os._exit(0)
@@ -76,7 +85,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--events", type=int, default=10000, help="events per run (default 10000)")
     ap.add_argument("--seed", type=int, default=1, help="seed of the first run (default 1)")
     ap.add_argument("--runs", type=int, default=1, help="runs, seeds seed, seed+1, ... (default 1)")
-    ap.add_argument("--hang", type=float, default=60.0, help="seconds one event may take (default 60)")
+    ap.add_argument("--hang", type=float, default=30.0,
+                    help="seconds one step (an event or a burst) may take before it counts as a hang (default 30)")
     ap.add_argument("--child", action="store_true", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.child:
