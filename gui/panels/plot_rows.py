@@ -10,11 +10,13 @@ meets a deleted plot (issue 20, item 9).
 from __future__ import annotations
 
 import html
+import math
 from dataclasses import dataclass
 
 import numpy as np
 import pyqtgraph as pg
 from PySide6.QtCore import Qt
+from PySide6.QtGui import QFontMetrics
 from PySide6.QtWidgets import QLabel, QSizePolicy, QVBoxLayout, QWidget
 
 from ..qtsafe import qt_safe
@@ -146,3 +148,26 @@ class PlotRow(QWidget):
     def resizeEvent(self, event) -> None:  # noqa: N802 - Qt override
         super().resizeEvent(event)
         self.fit_legend()   # another width wraps the legend onto another number of lines
+
+
+def align_left_axes(rows: list[PlotRow]) -> None:
+    """Give every row's left axis one width, that of the longest tick label (at the y range each
+    has now) plus the title: the plots then span the same pixels and their linked x range is the
+    same. With widths of their own pyqtgraph aligned the linked plots pixel by pixel, and a plot
+    whose tick labels were wider ("-5000") lost the start of its data off its left edge."""
+    widths = []
+    for row in rows:
+        ax = row.plot.getAxis("left")
+        font = ax.style["tickFont"] or ax.font()
+        metrics = QFontMetrics(font)
+        lo, hi = ax.range
+        levels = ax.tickValues(lo, hi, max(ax.size().height(), ROW_HEIGHT))[: ax.style["maxTickLevel"] + 1]
+        texts = [t for spacing, values in levels for t in ax.tickStrings(values, ax.scale, spacing)]
+        text = max((metrics.boundingRect(t).width() for t in texts if t), default=metrics.horizontalAdvance("0.0"))
+        label = ax.label.boundingRect().height() * 0.8 if ax.label.isVisible() else 0.0
+        widths.append(text + 4 + ax.style["tickTextOffset"][0] + max(0, ax.style["tickLength"]) + label)
+    width = math.ceil(max(widths, default=0.0))
+    for row in rows:
+        ax = row.plot.getAxis("left")
+        if ax.fixedWidth != width:
+            ax.setWidth(width)
