@@ -195,7 +195,7 @@ class SceneController(QObject):
             else:
                 self.push(edit, text)
 
-        self.background.solve(element, samples, f"{text} ({element.id})", landed)
+        self.background.solve(element, samples, text if element.id in text else f"{text} ({element.id})", landed)
         self.message.emit(f"solving {element.id} for '{text}' off the main window (Cancel in the status bar)")
         return True
 
