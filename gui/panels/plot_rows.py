@@ -38,8 +38,10 @@ class Curve:
 
 
 def _nowrap(text: str) -> str:
-    """``text`` escaped for the legend, its spaces not places to break a line."""
-    return html.escape(text).replace(" ", "&nbsp;")
+    """``text`` escaped for the legend with no place to break a line: its spaces non-breaking, a
+    word joiner (U+2060) after each "|" and "/" (Unicode lets a line break after them: "|v C|",
+    "mm/s" were split)."""
+    return html.escape(text).replace(" ", "&nbsp;").replace("|", "|\u2060").replace("/", "/\u2060")
 
 
 def _value_text(v: float) -> str:

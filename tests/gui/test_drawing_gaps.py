@@ -66,3 +66,23 @@ def test_new_and_open_leave_no_stale_plot_axes_or_status(shell, qtbot):
         lo, hi = row.plot.vb.viewRange()[0]
         assert 50 <= lo <= 60 and 420 <= hi <= 430, (row.name, lo, hi)   # the drawn 60° + a turn
     assert "fourbar" in w.solve_label.text() and "indexer" not in w.statusBar().currentMessage()
+
+
+@pytest.mark.parametrize("name", ["rolling_lever_press", "geneva_z6"])
+def test_handle_labels_do_not_print_over_each_other(shell, name):
+    """Issue 24 item 6: the rolling lever's "lever circle centre" and "slider circle centre"
+    handles lie 42 px apart and their labels were printed over each other; each label now takes
+    the first place beside its handle where it meets no other label and no other handle."""
+    parts = shell()
+    w = parts.window
+    w.actions[f"example:{name}"].trigger()
+    eid = parts.controller.scene.elements[0].id
+    parts.controller.set_selection([(eid, "element", eid)])
+    QApplication.processEvents()
+    w.canvas.viewport().grab()                      # a paint: the labels are placed
+    item = w.canvas.extras.handles_item
+    boxes = item.placed
+    assert len(boxes) == len(item.handles) >= 3
+    for i in range(len(boxes)):
+        for j in range(i + 1, len(boxes)):
+            assert not boxes[i].intersects(boxes[j]), (item.handles[i].label, item.handles[j].label)

@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from PySide6.QtCore import QPoint
+from PySide6.QtGui import QTextDocument
 from PySide6.QtWidgets import QApplication
 
 from app_fakes import DISCARD, shell  # noqa: F401 - fixture
@@ -103,6 +104,17 @@ def test_a_legend_of_two_lines_does_not_cut_its_plot(shell, qtbot, size):
         legend = row.legend
         wrapped += legend.height() > legend.fontMetrics().lineSpacing() * 1.5
         assert row.widget.height() >= ROW_HEIGHT
-        for entry in legend.text().split("&nbsp;&nbsp; "):  # the only places a line may break
-            assert " " not in entry.replace("<span style", "").replace("<b>", ""), entry
+        for width in range(200, 640, 8):                     # the legend laid out at many widths
+            doc = QTextDocument()
+            doc.setDefaultFont(legend.font())
+            doc.setDocumentMargin(0)
+            doc.setHtml(legend.text())
+            doc.setTextWidth(width)
+            doc.size()                                       # (lays it out)
+            layout, text = doc.begin().layout(), doc.begin().text()
+            lines = [text[ln.textStart():ln.textStart() + ln.textLength()].replace("\u2060", "")
+                     for ln in (layout.lineAt(i) for i in range(layout.lineCount()))]
+            for curve in row._shown:                         # each entry lies on one line
+                entry = curve.name.replace(" ", "\xa0")
+                assert any(entry in line for line in lines), (width, curve.name, lines)
     assert wrapped >= 1                                      # the case in question did arise
