@@ -228,7 +228,8 @@ class Monkey:
         QApplication.sendPostedEvents(None, QEvent.Type.DeferredDelete)
 
 
-def run(parts, qtbot, events: int, seed: int = SEED, fresh: int = FRESH, on_event=None) -> tuple[Monkey, list[str]]:
+def run(parts, qtbot, events: int, seed: int = SEED, fresh: int = FRESH, on_event=None,
+        on_start=None) -> tuple[Monkey, list[str]]:
     """``events`` random events on the app ``parts`` (every ``fresh``-th opens an example so the
     scene does not grow without bound); returns the monkey (its log) and the errors that reached
     sys.excepthook, each with the events before it. ``on_event(k)`` is called after each."""
@@ -238,6 +239,8 @@ def run(parts, qtbot, events: int, seed: int = SEED, fresh: int = FRESH, on_even
     monkey = Monkey(parts, qtbot, random.Random(seed))
     monkey.steps = 0
     monkey.clock = FakeClock()
+    if on_start is not None:
+        on_start(monkey)
     parts.window.player.clock = monkey.clock
 
     def hook(kind, value, tb):
