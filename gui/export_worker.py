@@ -24,6 +24,8 @@ from PySide6.QtWidgets import QHBoxLayout, QLabel, QProgressBar, QToolButton, QW
 from mechsketch.core.analyses.parts import build as parts_build
 from mechsketch.core.errors import MechsketchError
 from mechsketch.core.io.export_parts import export_parts
+from mechsketch.core.model.gear_pair import GearPair
+from mechsketch.core.model.geared_geneva import GearedGeneva
 from mechsketch.core.model.geneva import Geneva
 from mechsketch.core.model.linkage import Linkage
 from mechsketch.core.model.rolling_lever import RollingLever
@@ -33,7 +35,7 @@ from .qtsafe import qt_safe
 
 #: the tolerance of fitted curves (mm), as ``mechsketch export`` uses by default
 DEFAULT_TOLERANCE = parts_build.DEFAULT_TOLERANCE
-EXPORTABLE = (Geneva, RollingLever, Linkage)
+EXPORTABLE = (Geneva, RollingLever, Linkage, GearPair, GearedGeneva)
 
 
 class _Signals(QObject):
@@ -170,5 +172,6 @@ class ExportStatus(QWidget):
 
 
 def exportable(element) -> bool:
-    """True for the element types the app exports (linkages, Geneva drives, rolling levers)."""
+    """True for the element types the app exports (linkages, Geneva drives, rolling levers, gear pairs
+    and smooth Geneva drives: every kind whose parts ``element_parts`` builds)."""
     return isinstance(element, EXPORTABLE)

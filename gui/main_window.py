@@ -450,7 +450,7 @@ class MainWindow(QMainWindow):
         scene = self.controller.scene
         elements = [e for e in scene.elements if exportable(e)]
         if not elements:
-            self.show_message("nothing to export: draw a linkage, a Geneva drive or a rolling lever first")
+            self.show_message("nothing to export: draw a linkage, a Geneva drive, a rolling lever or a gear pair first")
             return False
         target = self.export_target() or elements[0]
         choices = {e.id: part_names(e) for e in elements}
