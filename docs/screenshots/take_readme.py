@@ -4,9 +4,10 @@ virtual X server, from the repository root::
 
     xvfb-run -s "-screen 0 1440x900x24" .venv/bin/python docs/screenshots/take_readme.py
 
-Writes docs/screenshots/main.png (the four-bar, joint E selected), help_manual.png (F1 over the canvas with the Geneva tool active),
-preferences.png (Edit › Preferences), study_dock.png (a tolerance study of the four-bar's crank
-and rocker, its band on the canvas) and design_dock.png (three typed poses, the candidates).
+Writes docs/screenshots/main.png (the four-bar, joint E selected), help_manual.png (F1 over the
+canvas with the Geneva tool active),
+preferences.png (Edit › Preferences), study.png (a tolerance study of the four-bar's crank
+and rocker, its band on the canvas) and design.png (three typed poses, the candidates).
 """
 from __future__ import annotations
 
@@ -92,7 +93,7 @@ def main() -> None:
     for area in study.findChildren(QScrollArea):   # down to the results: histogram, sensitivity
         area.verticalScrollBar().setValue(area.verticalScrollBar().maximum())
     settle(0.5)
-    w.grab().save(str(HERE / "study_dock.png"))
+    w.grab().save(str(HERE / "study.png"))
     # the Design dock: three typed poses of a coupler, two exact four-bars
     parts.dialogs.save_changes.append("discard")
     w.actions["new"].trigger()
@@ -113,7 +114,7 @@ def main() -> None:
     design.run_button.click()
     until(lambda: not design.runner.busy)
     settle(1.0)
-    w.grab().save(str(HERE / "design_dock.png"))
+    w.grab().save(str(HERE / "design.png"))
     parts.autosave.stop()
     del Qt
     os._exit(0)
