@@ -1,7 +1,7 @@
 """The Python API against the app path, sweep by sweep from a fresh process (issue 26, item 3):
 what ``core.runtime.tune_allocator()`` changes, measured as a ratio in the same run.
 
-    .venv/bin/python benchmarks/bench_api_alloc.py [--Ns 3600,36000] [--sweeps 12] [--reps 5]
+    .venv/bin/python benchmarks/bench_api_alloc.py [--Ns 3600,36000] [--sweeps 6] [--reps 8]
 
 Each measurement is a new interpreter that does only ``Workspace.open(path)[id].compile()`` and
 then ``sweep(N, order=2)`` ``--sweeps`` times (``--extract``: and reads every joint's position,
@@ -77,8 +77,9 @@ def loadavg() -> str:
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--Ns", default="3600,36000")
-    ap.add_argument("--sweeps", type=int, default=12)
-    ap.add_argument("--reps", type=int, default=5, help="process pairs (api, app) per case and N")
+    ap.add_argument("--sweeps", type=int, default=6)
+    ap.add_argument("--reps", type=int, default=8,
+                    help="process pairs (api, app) per case and N (a first sweep is one sample a process)")
     ap.add_argument("--extract", action="store_true", help="also read every joint's arrays after each sweep")
     ap.add_argument("--child", nargs=5, help=argparse.SUPPRESS)
     a = ap.parse_args(argv)

@@ -11,8 +11,8 @@ accelerations) and order 0 (positions):
   ``velocity``, ``acceleration``), compile excluded, warm;
 * ``hand``: the same arrays from a hand-written numpy closed form of that mechanism
   (:mod:`kernels_hand`: real arithmetic, one determinant per group, each joint once) — the floor;
-* ``pylinkage`` (four-bar only), ``Linkage.step_fast`` / ``step_fast_with_kinematics`` (numba),
-  if importable;
+* ``pylinkage``, ``Linkage.step_fast`` / ``step_fast_with_kinematics`` (numba), if importable: the
+  same mechanisms built of its ``RRRDyad``, ``RRPDyad`` and ``FixedDyad`` (:mod:`linkage_cases`);
 
 each as µs per sample: the best and the median of interleaved runs timed with
 ``time.thread_time`` (CPU time of this thread: preemption by other processes does not count;
@@ -44,7 +44,8 @@ import numpy as np  # noqa: E402
 from mechsketch.core.solver.plan import compile_plan  # noqa: E402
 
 import kernels_hand as H  # noqa: E402
-from linkage_cases import example, pylinkage_fourbar, size_of  # noqa: E402
+from linkage_cases import (example, pylinkage_fourbar, pylinkage_sixbar, pylinkage_slider_crank,  # noqa: E402
+                           size_of)
 from linkage_errors import References, errors  # noqa: E402
 
 CASES = [("four-bar", "fourbar_crank_rocker", H.make_fourbar),
@@ -87,14 +88,20 @@ def loadavg() -> str:
         return "n/a"
 
 
-def pylinkage_job(lk, N: int):
-    """(job(order) timed without set_coords, result(order) -> (P, V, A), components) or None."""
+#: the pylinkage model of each case: (L, drawn coordinates, component names, {joint: component})
+PYLINKAGE = {"four-bar": lambda lk, N: (*pylinkage_fourbar(lk, N), {}),
+             "slider-crank": pylinkage_slider_crank, "six-bar": pylinkage_sixbar}
+
+
+def pylinkage_job(label: str, lk, N: int):
+    """(job(order) timed without set_coords, {joint: column}, HAS_NUMBA) or None."""
     try:
         import pylinkage  # noqa: F401
         from pylinkage._numba_compat import HAS_NUMBA
     except ImportError:
         return None
-    L, c0, comps = pylinkage_fourbar(lk, N)
+    L, c0, comps, alias = PYLINKAGE[label](lk, N)
+    column = {j: comps.index(alias.get(j, j)) for j in lk.joint_ids}
     L.step_fast(iterations=4)
     L.set_coords(c0)
     L.step_fast_with_kinematics(iterations=4)
@@ -105,7 +112,7 @@ def pylinkage_job(lk, N: int):
             return L.step_fast(iterations=N), None, None
         return L.step_fast_with_kinematics(iterations=N)
 
-    return run, comps, HAS_NUMBA
+    return run, column, HAS_NUMBA
 
 
 def measure_main(Ns, budget: float) -> list[dict]:
@@ -121,16 +128,16 @@ def measure_main(Ns, budget: float) -> list[dict]:
             idx = np.unique(np.linspace(0, N - 1, N_REF).round().astype(int))
             sol = plan.sweep(N, order=2)
             ref = refs.build(sol, idx, None, joints)
-            py = pylinkage_job(lk, N) if label == "four-bar" else None
+            py = pylinkage_job(label, lk, N)
             for order in (2, 0):
                 res = {"ours": ours(plan, joints, N, order), "hand": hand(N, order)}
                 jobs = {"ours": lambda o=order, N=N: ours(plan, joints, N, o),
                         "hand": lambda o=order, N=N: hand(N, o)}
                 if py is not None:
-                    run, comps, _ = py
+                    run, col, _ = py
                     P, V, A = run(order)
-                    res["pylinkage"] = {j: [P[:, comps.index(j)], None if V is None else V[:, comps.index(j)],
-                                            None if A is None else A[:, comps.index(j)]] for j in joints}
+                    res["pylinkage"] = {j: [P[:, col[j]], None if V is None else V[:, col[j]],
+                                            None if A is None else A[:, col[j]]] for j in joints}
                     # set_coords (back to the drawn pose) is inside the timed call: ~1 µs
                     jobs["pylinkage"] = lambda o=order: run(o)
                 times = interleave(jobs, budget)
@@ -159,7 +166,8 @@ def verdicts(rows: list[dict]) -> list[str]:
         o, h, p = r["ours"]["best"], r["hand"]["best"], r.get("pylinkage")
         lim = TARGETS[r["N"]]
         ok = o / h <= lim and (p is None or r["N"] != 360 or o <= p["best"])
-        py = "" if p is None else f", pylinkage {p['best']:.4f} µs/sample (ours / py {o / p['best']:.2f})"
+        py = (", pylinkage not importable (compared with the hand-written form only)" if p is None else
+              f", pylinkage {p['best']:.4f} µs/sample (ours / py {o / p['best']:.2f})")
         out.append(f"target {r['case']} N = {r['N']:,}: ours {o:.4f} µs/sample, hand {h:.4f} (ours / hand "
                    f"{o / h:.2f}, target ≤ {lim}){py}; load {r['load']} — {'met' if ok else 'MISSED'}")
     return out

@@ -78,3 +78,57 @@ def pylinkage_fourbar(lk: Linkage, N: int):
     L = pl.Linkage([O1, O2, cr, rr, fx])
     L.set_input_velocity(cr, omega=lk.driver.omega)
     return L, L.get_coords(), ["A", "D", "B", "C", "E"]
+
+
+def _pylinkage_crank(lk: Linkage, N: int):
+    """The ground pivot A and the crank B of a pylinkage model sampled like ``plan.sweep``."""
+    import pylinkage as pl
+
+    at = {j.id: j.at for j in lk.joints}
+    d = (1.0 if lk.driver.omega >= 0 else -1.0) * 2 * math.pi / N
+    O1 = pl.Ground(*at["A"], name="A")
+    cr = pl.Crank(O1, radius=math.dist(at["A"], at["B"]), angular_velocity=d,
+                  initial_angle=compile_plan(lk).theta0 - d, name="B")  # its first output is sample 0
+    return at, O1, cr
+
+
+def pylinkage_slider_crank(lk: Linkage, N: int):
+    """A pylinkage model of the offset slider-crank (A frame; B crank; C on the fixed guide through
+    S, an RRPDyad on a line through two frame points); the slider S is reported at C."""
+    import pylinkage as pl
+
+    at, O1, cr = _pylinkage_crank(lk, N)
+    a = math.radians(lk.joint("S").axis_deg or 0.0)
+    S1 = pl.Ground(*at["S"], name="S1")
+    S2 = pl.Ground(at["S"][0] + 100.0 * math.cos(a), at["S"][1] + 100.0 * math.sin(a), name="S2")
+    sl = pl.RRPDyad(cr.output, S1, S2, distance=math.dist(at["B"], at["C"]), x=at["C"][0], y=at["C"][1],
+                    name="C")
+    L = pl.Linkage([O1, S1, S2, cr, sl])
+    L.set_input_velocity(cr, omega=lk.driver.omega)
+    return L, L.get_coords(), ["A", "S1", "S2", "B", "C"], {"S": "C"}
+
+
+def pylinkage_sixbar(lk: Linkage, N: int):
+    """A pylinkage model of the six-bar with a moving guide (the four-bar A–B–C–D; the block E on
+    the rocker's guide through Q: an RRPDyad on a line through two points fixed to the rocker);
+    the slider Q is reported at E."""
+    import pylinkage as pl
+
+    at, O1, cr = _pylinkage_crank(lk, N)
+    O2 = pl.Ground(*at["D"], name="D")
+    rr = pl.RRRDyad(cr.output, O2, distance1=math.dist(at["B"], at["C"]),
+                    distance2=math.dist(at["D"], at["C"]), x=at["C"][0], y=at["C"][1], name="C")
+    D, C0, Q0 = (complex(*at[k]) for k in ("D", "C", "Q"))
+    a = math.radians(lk.joint("Q").axis_deg or 0.0)
+
+    def on_rocker(p: complex, name: str):
+        v = p - D
+        ang = math.atan2(v.imag, v.real) - math.atan2((C0 - D).imag, (C0 - D).real)
+        return pl.FixedDyad(O2, rr, distance=abs(v), angle=ang, name=name)
+
+    g1, g2 = on_rocker(Q0, "G1"), on_rocker(Q0 + 100.0 * complex(math.cos(a), math.sin(a)), "G2")
+    bl = pl.RRPDyad(cr.output, g1, g2, distance=math.dist(at["B"], at["E"]), x=at["E"][0], y=at["E"][1],
+                    name="E")
+    L = pl.Linkage([O1, O2, cr, rr, g1, g2, bl])
+    L.set_input_velocity(cr, omega=lk.driver.omega)
+    return L, L.get_coords(), ["A", "D", "B", "C", "G1", "G2", "E"], {"Q": "E"}

@@ -295,11 +295,15 @@ def check_any_csv(path: Path) -> list[str]:
     return bad
 
 
-def one_input(main, name: str, doc: dict, rng: np.random.Generator, folder: Path) -> tuple[str, list[dict]]:
+def one_input(main, name: str, doc: dict, rng: np.random.Generator, folder: Path,
+              keep: str | None = None) -> tuple[str, list[dict]]:
     kind, doc = mutate(doc, rng)
     text = json.dumps(doc, allow_nan=True)
     scene = folder / "scene.json"
     scene.write_text(text)
+    inflight = Path(keep) / f"inflight.{os.getpid()}.{name}.json" if keep else None
+    if inflight is not None:   # stays behind if the worker dies on this input (a crash's repro)
+        inflight.write_text(text)
     el = doc["elements"][0] if isinstance(doc.get("elements"), list) and doc["elements"] else {}
     typ = el.get("type") if isinstance(el, dict) else None
     cmds = [["validate", str(scene)], ["analyze", str(scene), "--csv", str(folder / "a.csv"), "--summary"]]
@@ -330,6 +334,8 @@ def one_input(main, name: str, doc: dict, rng: np.random.Generator, folder: Path
             bad = check_linkage_csv(f, el, dead) if typ == "linkage" else check_any_csv(f)
             if bad:
                 findings.append({"kind": "invalid-row", "argv": " ".join(argv[:1] + argv[2:3]), "rows": bad[:3]})
+    if inflight is not None:
+        inflight.unlink()
     for fd in findings:
         fd.update(example=name, strategy=kind)
     if findings:
@@ -356,7 +362,7 @@ def worker(seed: int, count: int, keep: str) -> None:
         for _ in range(count):
             name = names[int(rng.integers(0, len(names)))]
             t0 = time.perf_counter()
-            kind, findings = one_input(main, name, docs[name], rng, folder)
+            kind, findings = one_input(main, name, docs[name], rng, folder, keep)
             for kept in folder.glob(f"{name}.*.json"):
                 kept.replace(Path(keep) / kept.name)
             print(json.dumps({"example": name, "strategy": kind, "seconds": time.perf_counter() - t0,
@@ -398,6 +404,8 @@ def main() -> int:
         if p.returncode != 0 or len(lines) < count:
             crashes.append({"seed": seed, "returncode": p.returncode, "inputs_done": len(lines),
                             "stderr": err[-500:]})
+            print(f"crash: worker seed {seed} exit {p.returncode} after {len(lines)} of {count} inputs; "
+                  f"stderr: {err[-1500:]}", file=sys.stderr)
         print(f"{done}/{args.inputs} inputs, {len(findings)} findings, {len(crashes)} crashes, "
               f"{time.time() - t0:.0f} s", file=sys.stderr)
     kinds: dict[str, int] = {}

@@ -217,9 +217,10 @@ class Solution:
             q = (self._all_valid and self.plan.coord_scale <= 1e30
                  and _below(self.omega_driver, 1e30) and _below(self.alpha_driver, 1e60))
             for out in self._outs.values() if q else ():
+                if out.cond_floor >= 1e-6:     # the margins bound it far above: not even made
+                    continue
                 c = out.cond
-                if (out.cond_floor < 1e-6 and isinstance(c, np.ndarray) and c.size   # no reduction
-                        and not c.min() >= 1e-8):          # where the margins bound it far above
+                if isinstance(c, np.ndarray) and c.size and not c.min() >= 1e-8:
                     q = False
                     break
             self._quiet = q

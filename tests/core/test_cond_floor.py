@@ -94,3 +94,26 @@ def test_floor_unknown_where_a_sample_does_not_assemble():
     # a double-rocker driven through its limits: some samples do not assemble
     out = _rrr(80.0, 60.0, 70.0, 120.0)
     assert not out.ok.all() and out.cond_floor == 0.0
+
+
+def test_reading_rates_makes_no_conditioning_the_floor_bounds():
+    """Issue 26 item 4 (fixed cost per sweep): deciding that the extraction is quiet reads a
+    group's conditioning only where its floor does not already bound it (the conditioning is two
+    passes over the samples, made on first read). The rates are the same either way, and the
+    conditioning made later equals |det| / (li·lj) as before."""
+    from mechsketch.resources import example_path
+    from mechsketch.core import Workspace
+
+    plan = Workspace.open(example_path("sixbar_moving_guide"))["sixbar"].compile()
+    sol = plan.sweep(3600, order=2)
+    bounded = [name for name, out in sol._outs.items() if out.cond_floor >= 1e-6]
+    assert bounded, "the six-bar's groups keep away from their toggles: their floors bound them"
+    vel = sol.velocity("E")
+    assert all(callable(sol._outs[name]._cond) for name in bounded)     # not made
+    fresh = plan.sweep(3600, order=2)
+    for name in bounded:
+        fresh.conditioning(name)                                         # made first this time
+    np.testing.assert_array_equal(fresh.velocity("E"), vel)
+    for name in bounded:
+        np.testing.assert_array_equal(sol.conditioning(name), fresh.conditioning(name))
+        assert sol.conditioning(name).min() >= sol._outs[name].cond_floor
