@@ -19,6 +19,7 @@ leaves everything as it was. Signals for the canvas (wired by the main window):
 """
 from __future__ import annotations
 
+import shiboken6
 from PySide6.QtCore import Qt, Signal
 from PySide6.QtGui import QKeySequence, QShortcut
 from PySide6.QtWidgets import (QCheckBox, QComboBox, QDoubleSpinBox, QFormLayout, QGroupBox, QHBoxLayout, QLabel,
@@ -80,7 +81,10 @@ class StudyPanel(QWidget):
         units.subscribe(self._units_changed)
 
     def _units_changed(self) -> None:
-        """Edit › Preferences changed the display units: the tables show theirs, typed values kept."""
+        """Edit › Preferences changed the display units: the tables show theirs, typed values kept
+        (nothing for a panel whose window was closed: its Python object may outlive its widgets)."""
+        if not (shiboken6.isValid(self) and shiboken6.isValid(self.variables.widget)):
+            return
         self.variables.redisplay()
         self.clearances.redisplay()
 
