@@ -93,8 +93,11 @@ def _objective(pop: np.ndarray, z: np.ndarray, size: float) -> np.ndarray:
     return np.where(bad, 10.0 + np.mean(~ev.ok, axis=1), rms + 10.0 * short)
 
 
-def differential_evolution_reference(pts: np.ndarray, closed: bool, seconds: float, seed: int = 1) -> dict:
-    """Run scipy's differential evolution for ``seconds`` (see the module docstring)."""
+def differential_evolution_reference(pts: np.ndarray, closed: bool, seconds: float, seed: int = 1,
+                                     checkpoint=None, every: float = 60.0) -> dict:
+    """Run scipy's differential evolution for ``seconds`` (see the module docstring);
+    ``checkpoint(record)``, if given, gets the best design so far (unpolished, measured as the
+    result) after every ``every`` seconds of CPU time, so that a run stopped early still counts."""
     from scipy.optimize import differential_evolution
 
     z = pts[:, 0] + 1j * pts[:, 1]
@@ -114,8 +117,18 @@ def differential_evolution_reference(pts: np.ndarray, closed: bool, seconds: flo
         evaluations[0] += pop.shape[0]
         return _objective(pop, z, size)
 
-    def stop(*_args, **_kw):
-        return time.process_time() - cpu > seconds
+    last = [0.0]
+
+    def stop(xk=None, *_args, **_kw):
+        used = time.process_time() - cpu
+        if checkpoint is not None and xk is not None and used - last[0] >= every:
+            last[0] = used
+            rms, worst = measure(xk[:9], 1.0 if xk[9] >= 0 else -1.0, pts, closed)
+            checkpoint({"rms_mm": rms, "max_mm": worst, "size_mm": size, "seconds": used, "cpu_s": used,
+                        "wall_s": time.perf_counter() - start, "evaluations": int(evaluations[0]),
+                        "x": [float(v) for v in xk[:9]], "sigma": 1.0 if xk[9] >= 0 else -1.0, "seed": seed,
+                        "min_mu_deg": MIN_MU_DEG, "polished": False})
+        return used > seconds
 
     res = differential_evolution(f, bounds, strategy="best1bin", popsize=40, tol=0, atol=0, maxiter=10 ** 9,
                                  mutation=(0.5, 1.0), recombination=0.9, seed=seed, polish=True,

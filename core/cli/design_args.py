@@ -19,6 +19,9 @@ def add_common(p: argparse.ArgumentParser) -> None:
                    help="the fixed pivots must lie in this rectangle (mm)")
     p.add_argument("--max-size", type=float, default=5.0, metavar="F",
                    help="fixed pivots within F target sizes of the target, links no longer (default 5)")
+    p.add_argument("--max-deviation", type=float, default=None, metavar="E",
+                   help="refuse candidates deviating more than E from the target (mm; for a function the "
+                        "output's unit); default: the best that can be had")
     p.add_argument("--rpm", type=float, default=60.0, help="the candidates' crank speed (default 60)")
 
 

@@ -87,7 +87,8 @@ def options_from(args: argparse.Namespace) -> LinkageOptions:
         raise DesignError(f"--rpm must be from 0.001 to 100000, got {args.rpm:g}")
     return LinkageOptions(candidates=args.candidates, min_transmission_deg=args.min_transmission,
                           full_turn=args.full_turn, grashof=args.grashof, pivot_region=region,
-                          max_size=args.max_size, speed_rpm=abs(args.rpm)).check()
+                          max_size=args.max_size, max_deviation=args.max_deviation,
+                          speed_rpm=abs(args.rpm)).check()
 
 
 def check_writable(path: str) -> None:

@@ -23,8 +23,8 @@ import numpy as np
 
 from ..analyses.classify import fourbar_type
 from ..analyses.parts import require_checked
-from ..analyses.parts.build import PartOptions, element_parts, min_web_of
-from ..analyses.parts.linkage import BORE_FRACTION, BOSS_FRACTION, scale_of
+from ..analyses.parts.build import PartOptions, linkage_style, min_web_of
+from ..analyses.parts.linkage import BORE_FRACTION, BOSS_FRACTION, linkage_parts, scale_of
 from ..errors import GeometryError, MechsketchError
 from ..model.linkage import Driver, Joint, JointKind, Link, Linkage
 from ..model.linkage_parse import parse
@@ -213,10 +213,14 @@ def drive_check(linkage: Linkage, topology: str, x: np.ndarray, sigma: float, th
 
 def cut_check(linkage: Linkage, plan: Plan | None = None) -> str:
     """Why the parts ``validate`` builds for ``linkage`` (default options) cannot be cut, or "":
-    the export's own part check (closed, valid outlines, the minimum web)."""
+    the export's own part check (closed, valid outlines, the minimum web) on the plates
+    :func:`~mechsketch.core.analyses.parts.build.element_parts` builds, without the traced
+    coupler curves (never cut nor checked; their biarc fit was three quarters of the time)."""
     try:
         opts = PartOptions()
-        require_checked(element_parts(linkage, opts, plan), min_web_of(linkage, opts))
+        plates = linkage_parts(linkage, plan if plan is not None else compile_plan(linkage),
+                               linkage_style(linkage, opts), min_web_of(linkage, opts), traces=False)
+        require_checked(plates, min_web_of(linkage, opts))
     except (GeometryError, ValueError) as exc:
         return f"cannot be cut: {exc}"
     return ""

@@ -82,12 +82,13 @@ def finish(designs: Iterable[Design], options: LinkageOptions, size: float, clos
     clock.setdefault("cut", 0.0)
     todo = iter(enumerate(designs))
     pending: list[tuple[Candidate, tuple[str, np.ndarray]]] = []
+    over: list[tuple[float, str]] = []
     while True:
         watch = Stopwatch()
         for n, d in todo:
             report(progress, lo + (hi - lo) * n / max(len(designs), 1), f"checking design {n + 1} of {len(designs)}")
             got = _drive(d, options, size, closed, measure, output, point, centre, seen + [p[1] for p in pending],
-                         refused)
+                         refused, over)
             if got is not None:
                 pending.append(got)
                 if len(out) + len(pending) >= k:
@@ -111,13 +112,23 @@ def finish(designs: Iterable[Design], options: LinkageOptions, size: float, clos
             break
     for j, c in enumerate(out):
         c.linkage = replace(c.linkage, id=f"{options.prefix}_{j + 1}")
+    if over:
+        dev, unit = min(over)
+        n = refused.pop(_OVER, 0)
+        why = f"{_OVER_PREFIX} {options.max_deviation:g} {unit} asked (the closest: {dev:.4g} {unit})"
+        refused[why] = n
     return out, refused
 
 
+_OVER_PREFIX = "a largest deviation above the"
+_OVER = _OVER_PREFIX + " maximum asked"
+
+
 def _drive(d: Design, options: LinkageOptions, size: float, closed: bool, measure: Measure, output: bool,
-           point: bool, centre: complex | None, seen: list, refused: Counter):
+           point: bool, centre: complex | None, seen: list, refused: Counter, over: list):
     """(candidate, signature) of design ``d`` if it passes every check but the cut, else None
-    (the reason counted in ``refused``)."""
+    (the reason counted in ``refused``; a deviation above ``options.max_deviation`` also goes to
+    ``over`` as (deviation, unit))."""
     watch = Stopwatch()
     sig = _signature(d, size)
     if any(t == sig[0] and np.max(np.abs(sig[1] - s)) < DISTINCT for t, s in seen):
@@ -148,6 +159,10 @@ def _drive(d: Design, options: LinkageOptions, size: float, closed: bool, measur
         refused[f"not a {options.grashof}"] += 1
         return None
     dev, unit, adev, rms = measure(chk.plan, d)
+    if options.max_deviation is not None and not dev <= options.max_deviation:
+        refused[_OVER] += 1
+        over.append((dev, unit))
+        return None
     cand = Candidate(lk, d.topology, d.x, d.sigma, d.direction, d.inputs, dev, unit, chk.min_transmission_deg, kind,
                      chk.full_turn, d.seconds + watch.elapsed, adev, rms)
     return cand, sig
@@ -166,9 +181,16 @@ def _reason(text: str) -> str:
     return text.split(":")[0]
 
 
+def relax_text(refused: Counter, advice: str) -> str:
+    """What to relax: ``advice``, first raising the maximum deviation when that refused designs."""
+    if any(why.startswith(_OVER_PREFIX) for why in refused):
+        return "raise the maximum deviation (--max-deviation), " + advice
+    return advice
+
+
 def refusal_text(refused: Counter) -> str:
     """The refusals as ``"12 for <reason>, ..."`` (most frequent first)."""
     return "; ".join(f"{n} for {why}" for why, n in refused.most_common())
 
 
-__all__ = ["Design", "Measure", "finish", "fixed_pivots", "refusal_text"]
+__all__ = ["Design", "Measure", "finish", "fixed_pivots", "refusal_text", "relax_text"]

@@ -23,7 +23,7 @@ from ..solver.plan import Plan
 from . import families as F
 from . import freudenstein as FR
 from .candidates import Stopwatch
-from .finish import Design, finish, refusal_text
+from .finish import Design, finish, refusal_text, relax_text
 from .function_atlas import atlas_starts
 from .options import DesignResult, LinkageOptions
 from .refine import floor_penalty, levenberg_marquardt
@@ -196,7 +196,8 @@ def synthesize_function(target: FunctionTarget, options: LinkageOptions = Linkag
     if not found:
         raise DesignError(f"function: no defect-free {topology} follows the {n} pairs (" + "; ".join(notes)
                           + (f"; built and refused: {refusal_text(refused)}" if refused else "")
-                          + "): lower the minimum transmission angle, narrow the input span or ease the function")
+                          + "): " + relax_text(refused, "lower the minimum transmission angle, narrow the input "
+                                                          "span or ease the function"))
     if refused:
         notes.append(f"refused after building: {refusal_text(refused)}")
     report(progress, 1.0, "done")

@@ -28,7 +28,7 @@ from ..solver.plan import Plan
 from . import families as F
 from .atlas import load_atlas
 from .candidates import Stopwatch
-from .finish import Design, finish, fixed_pivots, refusal_text
+from .finish import Design, finish, fixed_pivots, refusal_text, relax_text
 from .options import DesignResult, LinkageOptions
 from .path_starts import Start, closed_starts, open_starts
 from .refine import floor_penalty, levenberg_marquardt
@@ -38,9 +38,9 @@ TOPOLOGIES = (F.FOURBAR, F.SLIDER_CRANK, F.INVERTED, F.SIXBAR, F.WATT)
 #: what --topology takes: "sixbar" means both six-bars (Stephenson III and Watt II)
 CHOICES = (F.FOURBAR, F.SLIDER_CRANK, F.INVERTED, F.SIXBAR, "any")
 #: starts refined per topology
-STARTS = 40
+STARTS = 32
 #: samples of the transmission-angle penalty over the span
-PENALTY_SAMPLES = 72
+PENALTY_SAMPLES = 48
 #: Levenberg–Marquardt iterations of the refinement (the six-bar's 15 parameters converge slower)
 ITERATIONS = {F.SIXBAR: 120, F.WATT: 120}
 DEFAULT_ITERATIONS = 40
@@ -217,8 +217,9 @@ def synthesize_path(target: PathTarget, options: LinkageOptions = LinkageOptions
     if not found:
         raise DesignError("path: no defect-free linkage traces the target (" + "; ".join(notes)
                           + (f"; refused: {refusal_text(refused)}" if refused else "")
-                          + "): lower the minimum transmission angle, widen the pivot region, allow another "
-                            "topology (--topology any) or simplify the path")
+                          + "): " + relax_text(refused, "lower the minimum transmission angle, widen the pivot "
+                                                          "region, allow another topology (--topology any) or "
+                                                          "simplify the path"))
     if refused:
         notes.append(f"refused after building: {refusal_text(refused)}")
     report(progress, 1.0, "done")

@@ -23,7 +23,7 @@ from ..solver.plan import Plan
 from . import burmester as BM
 from . import families as F
 from .candidates import Stopwatch
-from .finish import Design, finish, refusal_text
+from .finish import Design, finish, refusal_text, relax_text
 from .options import DesignResult, LinkageOptions
 from .refine import levenberg_marquardt
 from .targets import DesignError, PoseTarget, Progress, report
@@ -231,7 +231,8 @@ def synthesize_motion(target: PoseTarget, options: LinkageOptions = LinkageOptio
     if not found:
         raise DesignError(f"motion: no defect-free four-bar guides the body through the {len(target.points)} poses ("
                           + "; ".join(notes) + (f"; built and refused: {refusal_text(refused)}" if refused else "")
-                          + "): lower the minimum transmission angle, widen the pivot region or move the poses")
+                          + "): " + relax_text(refused, "lower the minimum transmission angle, widen the pivot "
+                                                          "region or move the poses"))
     if refused:
         notes.append(f"refused after building: {refusal_text(refused)}")
     report(progress, 1.0, "done")

@@ -26,7 +26,10 @@ class LinkageOptions:
     None (any), "crank-rocker", "double crank"; ``pivot_region``: (xmin, ymin, xmax, ymax) mm that
     the fixed pivots must lie in, or None; ``max_size``: the fixed pivots lie within this many
     target sizes of the target's centre, and no link is longer (a guard against pivots at
-    infinity); ``speed_rpm``, ``samples``: the candidates' driver speed and samples per cycle;
+    infinity); ``max_deviation``: a candidate's largest deviation from the target (mm for a path
+    or poses, the output's unit for a function) must not exceed it (None: the best that can be
+    had; with it, a target no linkage asked for reaches that closely is refused); ``speed_rpm``,
+    ``samples``: the candidates' driver speed and samples per cycle;
     ``prefix``: the candidates' element ids are ``prefix_1``, ``prefix_2``, ..."""
 
     candidates: int = 5
@@ -35,6 +38,7 @@ class LinkageOptions:
     grashof: str | None = None
     pivot_region: tuple[float, float, float, float] | None = None
     max_size: float = 5.0
+    max_deviation: float | None = None
     speed_rpm: float = 60.0
     samples: int = 360
     prefix: str = "candidate"
@@ -53,6 +57,8 @@ class LinkageOptions:
                 raise DesignError(f"pivot region must be xmin, ymin, xmax, ymax with xmin < xmax and ymin < ymax, got {r}")
         if not self.max_size > 0.0:
             raise DesignError(f"max_size must be positive, got {self.max_size}")
+        if self.max_deviation is not None and not (math.isfinite(self.max_deviation) and self.max_deviation > 0):
+            raise DesignError(f"the maximum deviation must be a positive number, got {self.max_deviation}")
         return self
 
     def pivot_ok(self, z: np.ndarray, centre: complex, size: float) -> np.ndarray:

@@ -7,16 +7,16 @@ constants as arrays (D, 1), and its masses and loads changed by the variables ``
 ``inertia:LINK``, ``com:LINK:x|y`` and ``load:ID:...`` (:mod:`.keys`). Points and forces are
 complex here (x + iy, (D, N)); moments about each link's anchor, N·mm inside the pass.
 
-Crank and slider drivers. The results are the frictionless ones (``ForceResult.driver``, ``pins``,
-``shaking_*`` of the one-design path); its friction iteration (``ForceResult.friction``) and a
-cylinder's barrel-and-rod locking are not in the batch (a cylinder-driven linkage is refused,
-naming the one-design path).
+Crank, slider and cylinder drivers. A cylinder's barrel and rod are locked into the bar V of its
+group at the current length (the rod's loads moved to the barrel's pivot), and the rod's own balance
+gives the push along the slide axis, as :mod:`mechsketch.core.analyses.forces.passes` does. The
+results are the frictionless ones (``ForceResult.driver``, ``pins``, ``shaking_*`` of the
+one-design path); its friction iteration (``ForceResult.friction``) is not in the batch.
 """
 from __future__ import annotations
 
 import numpy as np
 
-from ..errors import RequestError
 from ..model.linkage import JointKind, Linkage
 from ..model.loads import Damper, PointForce, Spring, Torque, default_inertia
 from ..solver.structure import GroupKind
@@ -47,6 +47,16 @@ class _Links:
         for k, s in run.states.items():
             self.A[k], self.rot[k], self.a0[k] = _c(s.A), _c(s.cs), _c(s.a0)
             self.v[k], self.w[k], self.acc[k], self.al[k] = _c(s.v), s.w, _c(s.acc), s.al
+        #: the drawn joints (complex (D, 1)); the arms below are keyed by these very arrays
+        self.at = {j: _c(K.at[j]) for j in lk.joint_ids}
+        #: a cylinder: (barrel, rod, M, H, slide joint, mode (D, 1)); the bar V (named as the barrel)
+        #: reaches from M to H, its arm to H is H − M whatever the length
+        self.cyl = None
+        if plan.kind == "cylinder":
+            d = plan.drive
+            mode = K.steps[plan.plan.steps[plan.cyl_step].group.name]["cyl"]["mode"]
+            self.cyl = (d.link, d.rod, d.m, d.h, d.slide, mode)
+            self._v_arm = self.A[d.rod] - self.A[d.link]
 
     def ref(self, k):
         return self.pivot if k == self.ground else self.A[k]
@@ -55,6 +65,8 @@ class _Links:
         """From the reference of ``k`` to its point drawn at p0 (complex (D, 1))."""
         if k == self.ground:
             return p0 - self.pivot
+        if self.cyl is not None and k == self.cyl[0] and p0 is self.at[self.cyl[3]]:
+            return self._v_arm
         return self.rot[k] * (p0 - self.a0[k])
 
     def point(self, k, p0):
@@ -246,6 +258,25 @@ class _Pass:
         self.take(g.known_i, X, m0)
         self.take_at(g.known_j, f2, q, c2)
 
+    def cylinder(self, first: int, rod_f):
+        """After the group of the cylinder's bar V: the pairs at H name the rod instead of the
+        barrel, and the driving force (N, + extending) is the barrel's push on the rod along the
+        slide axis, from the rod's balance (its loads ``rod_f``, the pin force at H)."""
+        barrel, rod, _m, h, slide, mode = self.L.cyl
+        r_h = 0j
+        for n in range(first, len(self.pairs)):
+            j, on, by, f = self.pairs[n]
+            if j != h:
+                continue
+            if on == barrel:
+                on, r_h = rod, r_h + f
+            elif by == barrel:
+                by, r_h = rod, r_h - f
+            self.pairs[n] = (j, on, by, f)
+        t = -(rod_f + r_h)                       # the barrel's force on the rod
+        u = -1j * self.L.normal(barrel, slide)
+        return mode * (t * np.conj(u)).real
+
     def driver(self, plan: BatchPlan):
         """The driving effort (N·m for a crank, N for a slider) once every group is solved."""
         lk, L, at = plan.linkage, self.L, self.at
@@ -272,14 +303,24 @@ def _pass(L: _Links, plan: BatchPlan, F: dict, M: dict, at: dict) -> dict:
     p = _Pass(L, F, M, at)
     solve = {GroupKind.RRR: p.rrr, GroupKind.RRP: p.rrp, GroupKind.RPR: p.rpr, GroupKind.PRP: p.prp,
              GroupKind.RPP: p.rpp}
+    cyl, effort = L.cyl, None
     for step in reversed(plan.plan.steps):
         g = step.group
         i, j = g.link_i, g.link_j
+        vgroup = cyl is not None and cyl[0] in (i, j)
+        if vgroup:   # barrel and rod locked together at the current length: the bar V
+            rod_f, rod_m, first = p.F[cyl[1]], p.M[cyl[1]], len(p.pairs)
+            p.F[cyl[0]] = p.F[cyl[0]] + rod_f
+            p.M[cyl[0]] = p.M[cyl[0]] + rod_m + _cross(L.arm(cyl[0], L.at[cyl[3]]), rod_f)
         Fi, Fj = p.F[i], p.F[j]
         solve[g.kind](g, i, j, Fi, Fj, Fi + Fj)
+        if vgroup:
+            effort = p.cylinder(first, rod_f)
+            p.F[cyl[1]], p.M[cyl[1]] = 0j, 0.0
         p.F[i] = p.F[j] = 0j
         p.M[i] = p.M[j] = 0.0
-    effort = p.driver(plan)
+    if cyl is None:
+        effort = p.driver(plan)
     ground = plan.linkage.ground
     return {"effort": effort, "pairs": p.pairs, "frame_force": p.F[ground], "frame_moment": p.M[ground]}
 
@@ -305,7 +346,7 @@ def chunk_forces(plan: BatchPlan, K: Constants, run: Run, values: dict, valid: n
     vals = {k: np.asarray(v, dtype=float).reshape(-1, 1) for k, v in values.items()}
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
         F, M = _applied(L, _static(lk, L, K, vals, n))
-        p = _pass(L, plan, F, M, {j: _c(K.at[j]) for j in lk.joint_ids})
+        p = _pass(L, plan, F, M, L.at)
         shape = valid.shape
         effort = np.broadcast_to(np.real(p["effort"]), shape)
         ff = np.broadcast_to(p["frame_force"], shape)
@@ -320,12 +361,6 @@ def chunk_forces(plan: BatchPlan, K: Constants, run: Run, values: dict, valid: n
                           for b in carriers[1:]}
         return {"effort": np.where(ok, effort, np.nan), "pins": pins, "shaking_force": np.where(ok, ff, np.nan),
                 "shaking_moment": np.where(ok, fm, np.nan), "valid": ok}
-
-
-def check_forces(lk: Linkage) -> None:
-    """RequestError for what the batch kinetostatics does not model."""
-    if str(lk.driver.kind) == "cylinder":
-        raise RequestError("batch forces of a cylinder-driven linkage are not modelled; use view.forces() per design")
 
 
 class BatchForces:
@@ -367,4 +402,4 @@ class BatchForces:
         return self._peak(self.shaking_moment)
 
 
-__all__ = ["BatchForces", "MM", "check_forces", "chunk_forces"]
+__all__ = ["BatchForces", "MM", "chunk_forces"]

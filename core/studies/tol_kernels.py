@@ -78,8 +78,24 @@ def _newton(nx: float, ny: float, ax: float, ay: float, r, S, k: int):
     return best, bx, by
 
 
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def scan_table(S):
+    """(P, N, SCAN) |S_Jᵀ d_i| of each pin J at each sample for the scanned directions d_i: what
+    :func:`_worst`'s scan would compute for every build (the same operations, so the same bits)."""
+    P, N = S.shape[0], S.shape[1]
+    T = np.empty((P, N, SCAN))
+    for j in range(P):
+        for k in range(N):
+            for i in range(SCAN):
+                c, sn = _DIRS[i, 0], _DIRS[i, 1]
+                tx = S[j, k, 0, 0] * c + S[j, k, 1, 0] * sn
+                ty = S[j, k, 0, 1] * c + S[j, k, 1, 1] * sn
+                T[j, k, i] = math.sqrt(tx * tx + ty * ty)
+    return T
+
+
 @numba.njit(inline="always")
-def _worst(ax: float, ay: float, r, S, Q, M: float, k: int, wx: float, wy: float):
+def _worst(ax: float, ay: float, r, S, T, M: float, k: int, wx: float, wy: float):
     """max over unit n of n·a + Σ r_J |S_Jᵀ n| at sample k and its direction: Newton from the
     direction (wx, wy) (the neighbouring sample's optimum; 0, 0 for none) or else from a's
     direction where the dimensions dominate (|a| > 2M: f has one maximum within 60° of a), and where the pins can rival the dimensions (|a| ≤ 2M, M = Σ r_J σ_max) also from
@@ -94,9 +110,7 @@ def _worst(ax: float, ay: float, r, S, Q, M: float, k: int, wx: float, wy: float
         c, sn = _DIRS[i, 0], _DIRS[i, 1]
         v = c * ax + sn * ay
         for j in range(r.shape[0]):
-            tx = S[j, k, 0, 0] * c + S[j, k, 1, 0] * sn
-            ty = S[j, k, 0, 1] * c + S[j, k, 1, 1] * sn
-            v += r[j] * math.sqrt(tx * tx + ty * ty)
+            v += r[j] * T[j, k, i]
         if v > bestv:
             bestv, px, py = v, c, sn
     f, fx, fy = _newton(px, py, ax, ay, r, S, k)
@@ -108,12 +122,12 @@ def _worst(ax: float, ay: float, r, S, Q, M: float, k: int, wx: float, wy: float
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy")
-def reduce_point(pos, ok, nom, nrm, nvalid, S, Q, smax, g, r, lo, width, hist_up, hist_lo, ext, mom, fails, dev):
+def reduce_point(pos, ok, nom, nrm, nvalid, S, T, smax, g, r, lo, width, hist_up, hist_lo, ext, mom, fails, dev):
     """One traced point over a chunk of builds.
 
     pos (B, N, 2) mm and ok (B, N) (the build assembled there); nom, nrm (N, 2) the nominal
     point and the unit normal of its path; nvalid (N,) the nominal assembled there; S (P, N, 2, 2)
-    the pins' derivative matrices, Q (P, N, 3) = S·Sᵀ (xx, xy, yy), smax (P, N) σ_max(S),
+    the pins' derivative matrices, T (P, N, SCAN) their :func:`scan_table`, smax (P, N) σ_max(S),
     g (P, N) |Sᵀ·nrm|; r (B, P) the builds' radial plays (mm). Adds to hist_up/hist_lo (N, nb + 2)
     (bins of width ``width`` from ``lo``, under- and overflow at the ends) the signed deviation
     along the normal with the pins' worst case one way and the other, to ext (N, 4) its least and
@@ -163,25 +177,18 @@ def reduce_point(pos, ok, nom, nrm, nvalid, S, Q, smax, g, r, lo, width, hist_up
             ext[k, 1] = max(ext[k, 1], s - G)
             ext[k, 2] = min(ext[k, 2], s + G)
             ext[k, 3] = max(ext[k, 3], s + G)
-        if failed:
-            dev[b] = np.inf
-            continue
-        if kmax < 0:
-            dev[b] = 0.0
-            continue
-        if P == 0:
-            dev[b] = amax
-            continue
-        dev[b] = _exact(pos, nom, b, rb, S, Q, na_, mk, kmax)
+        # a failed build is infinitely off; one with no assembled sample 0; without pins |a|
+        dev[b] = np.inf if failed else 0.0 if kmax < 0 else amax if P == 0 else _exact(pos, nom, b, rb, S, T, na_, mk,
+                                                                                       kmax)
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy")
-def _exact(pos, nom, b: int, rb, S, Q, na_, mk, kmax: int) -> float:
+def _exact(pos, nom, b: int, rb, S, T, na_, mk, kmax: int) -> float:
     """Build b's largest distance with its pins at their worst, from the first pass's |a| (na_,
     −1 where not assembled) and M (mk) per sample (see :func:`reduce_point`)."""
     N, P = pos.shape[1], rb.shape[0]
     ax, ay = pos[b, kmax, 0] - nom[kmax, 0], pos[b, kmax, 1] - nom[kmax, 1]
-    best, wx, wy = _worst(ax, ay, rb, S, Q, mk[kmax], kmax, 0.0, 0.0)
+    best, wx, wy = _worst(ax, ay, rb, S, T, mk[kmax], kmax, 0.0, 0.0)
     last = -2
     for k in range(N):
         na = na_[k]
@@ -200,7 +207,7 @@ def _exact(pos, nom, b: int, rb, S, Q, na_, mk, kmax: int) -> float:
             U = min(U, L + mk[k] * mk[k] / (2.0 * na))
         if U > best:
             warm = last == k - 1
-            v, wx, wy = _worst(ax, ay, rb, S, Q, mk[k], k, wx if warm else 0.0, wy if warm else 0.0)
+            v, wx, wy = _worst(ax, ay, rb, S, T, mk[k], k, wx if warm else 0.0, wy if warm else 0.0)
             last = k
             if v > best:
                 best = v
@@ -231,4 +238,4 @@ def reduce_angle(ang, ok, nom, nvalid, t, r, dev):
         dev[b] = best
 
 
-__all__ = ["reduce_angle", "reduce_point"]
+__all__ = ["reduce_angle", "reduce_point", "scan_table"]

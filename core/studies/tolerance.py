@@ -42,10 +42,11 @@ from .execute import block_rng, run_tasks
 from .iso286 import Fit, fit
 from .keys import check_keys, variables
 from .linearised import Nominal, _normals, derivatives
-from .tol_kernels import reduce_angle, reduce_point
+from .tol_kernels import reduce_angle, reduce_point, scan_table
 from .variants import Variants
 
-#: builds per block: the unit of random numbers and of work handed to a worker
+#: builds per block: the unit of random numbers and of work handed to a worker (below 2¹⁶: a
+#: block's histogram counts are sent as 16-bit integers)
 BLOCK = 4096
 #: histogram bins per sample of the envelope
 BINS = 512
@@ -173,13 +174,23 @@ def _task(ctx: _Context, block: int) -> dict:
         hist_up, hist_lo = np.zeros((N, BINS + 2), dtype=np.int64), np.zeros((N, BINS + 2), dtype=np.int64)
         ext = np.tile(np.array([np.inf, -np.inf, np.inf, -np.inf]), (N, 1))
         mom, fails, dev = np.zeros((N, 2)), np.zeros(N, dtype=np.int64), np.empty(n)
-        reduce_point(b.position(j), ok, a["pos"], a["normal"], A["valid"], a["S"], a["Q"], a["smax"], a["g"], plays,
+        reduce_point(b.position(j), ok, a["pos"], a["normal"], A["valid"], a["S"], a["T"], a["smax"], a["g"], plays,
                      a["lo"], a["width"], hist_up, hist_lo, ext, mom, fails, dev)
-        out["joints"][j] = {"dev": dev, "hist_up": hist_up, "hist_lo": hist_lo, "ext": ext, "mom": mom, "fails": fails}
+        # a block's counts fit 16 bits (BLOCK < 2¹⁶): a quarter of the bytes a worker sends back
+        out["joints"][j] = {"dev": dev, "hist_up": hist_up.astype(np.uint16), "hist_lo": hist_lo.astype(np.uint16),
+                            "ext": ext, "mom": mom, "fails": fails}
     for k in ctx.links:
         dev = np.empty(n)
         reduce_angle(b.angle(k), ok, A["links"][k]["ang"], A["valid"], A["links"][k]["t"], plays, dev)
         out["links"][k] = dev
+    return out
+
+
+def _total(arrays: list) -> np.ndarray:
+    """The sum of the blocks' arrays in block order (counts in 64 bits, moments in float64)."""
+    out = np.zeros(arrays[0].shape, dtype=np.int64 if arrays[0].dtype.kind in "iu" else np.float64)
+    for a in arrays:
+        out += a
     return out
 
 
@@ -195,7 +206,7 @@ class ToleranceResult:
         self._ang = {k: np.degrees(np.concatenate([p["links"][k] for p in parts])) for k in parts[0]["links"]}
         self._acc = {}
         for j in self._dev:
-            acc = {x: sum(p["joints"][j][x] for p in parts) for x in ("hist_up", "hist_lo", "mom", "fails")}
+            acc = {x: _total([p["joints"][j][x] for p in parts]) for x in ("hist_up", "hist_lo", "mom", "fails")}
             ext = np.stack([p["joints"][j]["ext"] for p in parts])
             acc["ext"] = np.stack([ext[:, :, 0].min(0), ext[:, :, 1].max(0), ext[:, :, 2].min(0), ext[:, :, 3].max(0)], 1)
             self._acc[j] = acc
@@ -399,8 +410,6 @@ def _setup(linkage: Linkage, spec: Spec, samples: int, joints: list, links: list
     for j in joints:
         nom.normal[j] = _normals(nom.pos[j], sol.velocity(j) if sol.order >= 1 else None)
         S = nom.S[j]
-        Q = np.stack([(S[..., 0, :] ** 2).sum(-1), (S[..., 0, :] * S[..., 1, :]).sum(-1), (S[..., 1, :] ** 2).sum(-1)],
-                     -1) if S.size else np.zeros((0, samples, 3))
         smax = np.sqrt(np.maximum(np.linalg.eigvalsh(S @ np.swapaxes(S, -1, -2))[..., -1], 0.0)) if S.size else \
             np.zeros((0, samples))
         g = np.hypot(*np.einsum("pkab,ka->pkb", S, nom.normal[j]).transpose(2, 0, 1)) if S.size else np.zeros((0, samples))
@@ -410,7 +419,7 @@ def _setup(linkage: Linkage, spec: Spec, samples: int, joints: list, links: list
         size = float(np.nanmax(np.abs(nom.pos[j]))) + 1.0
         R = 8.0 * sig + 2.0 * gmax + 1e-9 * size
         arrays["joints"][j] = {"pos": np.ascontiguousarray(nom.pos[j]), "normal": np.ascontiguousarray(nom.normal[j]),
-                               "S": np.ascontiguousarray(S), "Q": np.ascontiguousarray(Q),
+                               "S": np.ascontiguousarray(S), "T": scan_table(np.ascontiguousarray(S)),
                                "smax": np.ascontiguousarray(smax), "g": np.ascontiguousarray(g),
                                "lo": -R, "width": 2.0 * R / BINS}
     for k in links:

@@ -22,7 +22,7 @@ from ..solver.plan import unwrap_finite
 from ..solver.structure import MODAL_KINDS, GroupKind
 from ..solver.tolerances import RATE_EPS, RATE_REL, TOGGLE_COND
 from . import vec as V
-from .bforces import BatchForces, check_forces, chunk_forces
+from .bforces import BatchForces, chunk_forces
 from .budget import check_kept, chunk_designs
 from ..solver.branches import CANDIDATE
 from .engine import BatchPlan, Constants, Inputs, Run
@@ -448,7 +448,6 @@ class Variants:
         """The kinetostatics of every design over the cycle (driving effort, pin forces, shaking;
         :class:`~.bforces.BatchForces`), solved again chunk by chunk at order 2 on the numpy path."""
         lk = self.plan.linkage
-        check_forces(lk)
         D, N = self.n, np.size(self._inp.q)
         pins = [(j.id, b) for j in lk.joints if j.kind.value == "R" for b in lk.links_of(j.id)[1:]]
         check_kept(D * N * 8.0 * (4 + 2 * len(pins)), f"the forces of {D:,} designs × {N:,} samples",

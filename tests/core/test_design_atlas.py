@@ -16,7 +16,7 @@ import math
 
 import numpy as np
 import pytest
-from design_atlas_fixture import TEST_DESIGNS, atlas_cache  # noqa: F401  (fixture)
+from design_atlas_fixture import TEST_DESIGNS
 from hypothesis import given, settings
 from hypothesis import strategies as st
 

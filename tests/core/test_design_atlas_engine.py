@@ -8,11 +8,9 @@ import math
 import numpy as np
 import pytest
 
-pytest.importorskip("mechsketch.core.studies.variants", reason="the studies engine (issue 21) is not merged yet")
-
-from mechsketch.core.design import atlas as AT  # noqa: E402
-from mechsketch.core.design import families as F  # noqa: E402
-from mechsketch.core.design.atlas_engine import engine_solver  # noqa: E402
+from mechsketch.core.design import atlas as AT
+from mechsketch.core.design import families as F
+from mechsketch.core.design.atlas_engine import engine_solver
 
 TOPOLOGIES = ("fourbar", "slider_crank", "inverted_slider_crank", "sixbar", "watt_sixbar")
 

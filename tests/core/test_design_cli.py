@@ -8,7 +8,6 @@ import os
 
 import numpy as np
 import pytest
-from design_atlas_fixture import atlas_cache  # noqa: F401  (fixture)
 
 from mechsketch.core.cli import main
 from mechsketch.core.design import families as F
@@ -69,6 +68,18 @@ def test_design_motion_and_function(tmp_path, capsys):
     (["function"], "input_deg,output_deg\n0,0\n10,5\nabc,7\n", "'abc' is not a number"),
     (["path"], "x,y\n0,0\n1,0\n1,1\n", "at least 6 points"),
     (["path", "--topology", "fourbar"], "x,y\n0,0\n1,0\n1,0\n1,1\n0,1\n0,2\n", "points 2 and 3 are the same point"),
+    (["path"], "x,y\n0,0\n1,0\n1,1\nnan,1\n0,2\n3,3\n", "row 5, column x: 'nan' is not a finite number"),
+    # reachable by a four-bar, but by none whose transmission angle stays above 89.9°
+    (["path", "--topology", "fourbar", "--min-transmission", "89.9"],
+     "x,y\n" + "\n".join(f"{float(x)!r},{float(y)!r}" for x, y in _path_rows()),
+     "lower the minimum transmission angle"),
+    # a square: no four-bar traces it within 0.01 mm
+    (["path", "--topology", "fourbar", "--max-deviation", "0.01"],
+     "x,y\n" + "\n".join(f"{50 * float(np.clip(1.3 * math.cos(t), -1, 1))!r},"
+                          f"{50 * float(np.clip(1.3 * math.sin(t), -1, 1))!r}"
+                          for t in np.linspace(0, 2 * math.pi, 48, endpoint=False)), "raise the maximum deviation"),
+    (["motion", "--max-deviation", "-1"], "x,y,angle_deg\n0,0,0\n30,10,20\n50,35,45\n",
+     "maximum deviation must be a positive number"),
 ])
 def test_bad_input_exit_1_nothing_written(atlas_cache, tmp_path, capsys, args, content, message):
     src = tmp_path / "in.csv"

@@ -14,7 +14,6 @@ import math
 
 import numpy as np
 import pytest
-from design_atlas_fixture import atlas_cache  # noqa: F401  (fixture)
 from scipy.optimize import minimize_scalar
 
 from mechsketch.core.design import families as F
@@ -148,6 +147,16 @@ def test_unreachable_target_gets_the_best_it_can(atlas_cache):
         d = _distance_to_curve(c.linkage, square)
         assert np.max(d) <= c.deviation + 1e-9      # the reported deviation bounds the true one
     assert res.candidates[0].deviation < 0.2 * t.size
+    # a target no four-bar reaches as closely as asked: refused naming the closest and what to raise
+    best = res.candidates[0].deviation
+    with pytest.raises(DesignError, match=r"raise the maximum deviation.*") as exc:
+        synthesize_path(t, LinkageOptions(candidates=2, min_transmission_deg=25, max_deviation=0.5 * best),
+                        "fourbar", starts=16)
+    closest = float(str(exc.value).split("(the closest: ")[1].split(" mm")[0])
+    assert 0.5 * best < closest <= min(c.deviation for c in res.candidates) * (1 + 1e-3)   # 4 digits shown
+    within = synthesize_path(t, LinkageOptions(candidates=2, min_transmission_deg=25, max_deviation=1.01 * best),
+                             "fourbar", starts=16)
+    assert all(c.deviation <= 1.01 * best for c in within.candidates)
 
 
 def test_path_refusals(atlas_cache):

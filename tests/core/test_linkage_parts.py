@@ -222,3 +222,36 @@ def test_disc_hull_against_shapely():
         assert poly.area == pytest.approx(ref.area, rel=1e-5)
         assert poly.symmetric_difference(ref).area < 1e-3 * ref.length
     lay_out  # noqa: B018 - imported for the apart layout used above
+
+
+@pytest.mark.parametrize("name", LINKAGES)
+def test_plates_without_traces_are_the_plates_with_them(name):
+    """A cut check (design/candidates.cut_check) builds the plates only: the same parts, no curves."""
+    lk = example(name)
+    plan = compile_plan(lk)
+    full, plates = linkage_parts(lk, plan), linkage_parts(lk, plan, traces=False)
+    assert plates.curves == () and len(full.curves) == sum(len(lk.links_of(j.id)) == 1 for j in lk.joints
+                                                         if lk.links_of(j.id)[0] != lk.ground)
+
+    def key(ps):
+        return [(p.name, p.group, p.keys, [np.asarray(c.points).tobytes() + np.asarray(c.bulges).tobytes()
+                                            for c in p.contours]) for p in ps.parts]
+
+    assert key(plates) == key(full)
+
+
+def test_the_design_cut_check_is_the_export_check():
+    from dataclasses import replace
+
+    from mechsketch.core.analyses.parts import require_checked
+    from mechsketch.core.analyses.parts.build import PartOptions, element_parts, min_web_of
+    from mechsketch.core.design.candidates import build_linkage, cut_check
+    from mechsketch.core.model.linkage import LinkageDrawing
+
+    lk = build_linkage("fourbar", np.array([0, 0, 100, 0, 35, 110, 90, 60, 35.0]), 1.0, 0.3, "c")
+    assert element_parts(lk).curves   # its coupler point P is traced
+    assert cut_check(lk) == ""
+    bad = replace(lk, drawing=LinkageDrawing(min_web=1e3))
+    with pytest.raises(GeometryError) as exc:
+        require_checked(element_parts(bad), min_web_of(bad, PartOptions()))
+    assert cut_check(bad) == f"cannot be cut: {exc.value}"

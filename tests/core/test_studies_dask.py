@@ -72,6 +72,7 @@ def test_a_sweep_on_the_cluster_equals_the_local_one(client, tmp_path):
         assert np.array_equal(a.columns[k], b.columns[k], equal_nan=True), k
 
 
+@pytest.mark.slow   # starts two worker processes (~10 s quiet, 35 s under load 12)
 def test_real_worker_processes_give_the_same_files(tmp_path):
     study = {"scene": str(Path(FOURBAR).resolve()), "samples": 12, "seed": 9,
              "variables": {"length:crank:A:B": {"normal": 0.02}}, "clearance": {"B": "H7/g6"},

@@ -174,8 +174,10 @@ def _bar(p: np.ndarray, q: np.ndarray, boss: float, width: float) -> Contour:
 
 
 def linkage_parts(linkage: Linkage, plan: Plan, style: LinkageStyle = LinkageStyle(),
-                  min_web: float = 1.0) -> PartSet:
+                  min_web: float = 1.0, traces: bool = True) -> PartSet:
     """The plates of ``linkage`` (compiled ``plan``) in the drawn pose; see the module docstring.
+    ``traces=False`` leaves out the traced coupler curves (drawn, never cut nor checked: a
+    cut check needs only the plates).
 
     Raises :class:`GeometryError` for sizes that cannot make a plate (naming the option)."""
     if style.frame not in FRAMES:
@@ -257,7 +259,7 @@ def linkage_parts(linkage: Linkage, plan: Plan, style: LinkageStyle = LinkageSty
         if lk.id == linkage.ground and style.frame == "drill":
             outer = None
         parts.append(Part(lk.id, outer, tuple(holes), group=lk.id, keys=keys))
-    curves = _traces(linkage, plan, style.tolerance, notes)
+    curves = _traces(linkage, plan, style.tolerance, notes) if traces else []
     notes.insert(0, f"plates: boss radius {boss:.3f} mm, bores Ø{2 * bore:.3f} mm, bar width {width:.3f} mm"
                     + (f", blocks {blen:.3f} × {bwid:.3f} mm, play {style.play:g} mm per side" if trav else "")
                     + f"; frame as a {'drilling pattern' if style.frame == 'drill' else 'plate'}; drawn pose")
