@@ -97,9 +97,10 @@ class DialogService(Protocol):
         """A positive number (shown with ``unit``), ``value`` offered; None if the user cancelled."""
 
     def export_request(self, title: str, choices: dict, default_id: str, fmt: str,
-                       min_webs: dict | None = None):
+                       min_webs: dict | None = None, kinds: dict | None = None, sizes: dict | None = None):
         """The export options (an :class:`~mechsketch.gui.export_dialog.ExportRequest`) for one of
-        the elements ``choices`` (id -> part names), or None if the user cancelled."""
+        the elements ``choices`` (id -> part names; ``kinds`` id -> type, ``sizes`` preferred plate
+        sizes), or None if the user cancelled."""
 
 
 class QtDialogService:
@@ -149,8 +150,8 @@ class QtDialogService:
         return number if ok else None
 
     def export_request(self, title: str, choices: dict, default_id: str, fmt: str,
-                       min_webs: dict | None = None):
+                       min_webs: dict | None = None, kinds: dict | None = None, sizes: dict | None = None):
         from .export_dialog import ExportDialog
 
-        dlg = ExportDialog(title, choices, default_id, fmt, min_webs, self.parent)
+        dlg = ExportDialog(title, choices, default_id, fmt, min_webs, self.parent, kinds, sizes)
         return dlg.request() if dlg.exec() == QDialog.DialogCode.Accepted else None

@@ -86,7 +86,8 @@ class ExportTask(QRunnable):
                 return
             self.signals.progress.emit(f"checking and writing {Path(self.path).name}…")
             exp = export_parts(ps, self.path, req.fmt, req.layout, req.parts, req.split, req.arcs,
-                               parts_build.min_web_of(el, req.options), req.options.vocabulary)
+                               parts_build.min_web_of(el, req.options), req.options.vocabulary,
+                               annotate=req.annotate, kerf=req.kerf)
         except (MechsketchError, OSError, ValueError) as exc:
             self.signals.failed.emit(str(exc))
             return

@@ -26,6 +26,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args and args[0] in HEADLESS | {"-h", "--help"}:
         from mechsketch.core.cli import main as cli_main
 
+        if args[0] == "export" and any(a == "--pdf" or a.startswith("--pdf=") for a in args):
+            from mechsketch.core.cli import export_cmds
+            from mechsketch.gui.drawing_pdf import write_pdf
+
+            export_cmds.PDF_WRITER = write_pdf   # Qt's PDF writer draws the sheets (core has no Qt)
+
         return cli_main(args)
     if args and args[0] not in ("open",):
         from mechsketch.core.cli import main as cli_main

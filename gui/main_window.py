@@ -34,6 +34,7 @@ from .drops import DropTarget
 from .help.actions import HelpCommands
 from .underlays import UnderlayCommands
 from .design_docks import DesignDocks
+from .drawing_export import export_drawing
 from . import units
 from .preferences import (Preferences, apply_preferences, load_preferences, open_preferences_dialog, part_options,
                           store_preferences)
@@ -241,6 +242,8 @@ class MainWindow(QMainWindow):
                      "Write the selected element's cut-ready parts as a DXF drawing (mm)")
         self._action("export_svg", "Export S&VG…", self.export_svg,
                      tip="Write the selected element's cut-ready parts as SVG (mm; laser cutters)")
+        self._action("export_drawing", "Export Dra&wing (PDF)…", lambda: export_drawing(self),
+                     tip="A drawing sheet per element: parts to scale, dimensioned, title block, analysis summary")
         self._action("quit", "&Quit", self.close, K.Quit)
         undo = self.controller.undo_stack.createUndoAction(self, "&Undo")
         undo.setShortcut(QKeySequence(K.Undo))
@@ -279,7 +282,7 @@ class MainWindow(QMainWindow):
         file_menu.addMenu(self.recent_menu)
         file_menu.addActions([a["save"], a["save_as"]])
         file_menu.addSeparator()
-        file_menu.addActions([a["export_dxf"], a["export_svg"], a["export_png"], a["export_csv"]])
+        file_menu.addActions([a["export_dxf"], a["export_svg"], a["export_drawing"], a["export_png"], a["export_csv"]])
         file_menu.addSeparator()
         file_menu.addAction(a["import_underlay"])
         self._add_extra(file_menu, "file")
@@ -457,7 +460,9 @@ class MainWindow(QMainWindow):
         preferred = PartOptions(min_web=self.preferences.min_web or None)
         min_webs = {e.id: min_web_of(e, preferred) for e in elements}
         title = f"Export {fmt.upper()}"
-        req = self.dialogs.export_request(title, choices, target.id, fmt, min_webs)
+        kinds = {e.id: e.type for e in elements}
+        sizes = {k: getattr(self.preferences, k) for k in ("boss_radius", "bore_diameter", "link_width")}
+        req = self.dialogs.export_request(title, choices, target.id, fmt, min_webs, kinds, sizes)
         if req is None:
             return False
         req = replace(req, options=part_options(self.preferences, req.options))   # preferred plate sizes

@@ -10,6 +10,12 @@ their end tangents.
 :func:`fit_biarcs` splits the parameter range until every span's biarc is within the tolerance:
 the deviation is the distance from densely sampled curve points to the biarc (foot of the
 perpendicular on the arcs, stable for nearly straight arcs). Curves are callables t (M,) -> (M, 2).
+
+The chain never holds an arc or line shorter than :func:`shortest_segment` (relative to the
+curve's size and below a tenth of the tolerance): where a traced point reverses (a cusp), the
+biarc between two samples on either side of it is two half circles a few 1e-12 mm across, which
+CAD readers refuse; such pieces are dropped, their neighbours meeting at the cusp, and the
+reported deviation grows by at most their length.
 """
 from __future__ import annotations
 
@@ -22,6 +28,35 @@ import numpy as np
 from ..errors import GeometryError
 
 Curve = Callable[[np.ndarray], np.ndarray]
+#: the shortest segment (mm) a fit keeps, at least (FreeCAD's confusion distance is 1e-7 mm)
+SHORTEST = 1e-6
+
+
+def shortest_segment(tolerance: float, size: float) -> float:
+    """The shortest arc or line (mm) a fit of a curve ``size`` mm across keeps: 1e-8 of its size
+    (at least :data:`SHORTEST`), but at most a tenth of the ``tolerance`` (the fit keeps 10 %
+    of it in hand: every span is within 0.9·tolerance)."""
+    return min(0.1 * tolerance, max(SHORTEST, 1e-8 * size))
+
+
+def drop_short(arcs: list["Arc"], shortest: float, closed: bool) -> tuple[list["Arc"], float]:
+    """``arcs`` (a chain, each ending where the next starts) without the pieces shorter than
+    ``shortest`` mm, and the longest one dropped (0 if none): the next piece starts where the
+    dropped one started. A chain is never emptied."""
+    out, dropped = [], 0.0
+    for a in arcs:
+        length = abs(a.sweep) * a.radius if a.center is not None else math.dist(a.start, a.end)
+        if length < shortest and len(arcs) > 1:
+            dropped = max(dropped, math.dist(a.start, a.end))
+            if out:
+                prev = out[-1]
+                out[-1] = Arc(prev.start, a.end, prev.sweep, prev.center)
+            continue
+        out.append(a)
+    if not closed and out and out[-1].end != arcs[-1].end:
+        last = out[-1]
+        out[-1] = Arc(last.start, arcs[-1].end, last.sweep, last.center)
+    return out, dropped
 
 
 @dataclass(frozen=True)
@@ -193,4 +228,7 @@ def fit_biarcs(curve: Curve, t0: float, t1: float, tolerance: float, tangent: Ca
         todo = [half for a, b in split for half in ((a, 0.5 * (a + b)), (0.5 * (a + b), b))]
     order = sorted(done, reverse=t1 < t0)
     arcs = [arc for k in order for arc in done[k][1]]
-    return BiarcFit(arcs, max(done[k][2] for k in order), len(order), samples_per_span)
+    ends = np.array([a.start for a in arcs] + [arcs[-1].end])
+    size = float(np.max(np.ptp(ends, axis=0))) if len(ends) > 1 else 0.0
+    arcs, dropped = drop_short(arcs, shortest_segment(tolerance, size), closed=False)
+    return BiarcFit(arcs, max(done[k][2] for k in order) + dropped, len(order), samples_per_span)

@@ -72,6 +72,29 @@ class Centrodes:
             near_P = np.linalg.norm(self.P - ref, axis=1) <= limit
         return self.valid & near_p & near_P
 
+    def point(self, size: float, rel: float = 1e-9) -> tuple[float, float] | None:
+        """The point (mm, in the reference body's frame) the centrode shrinks to when the link
+        turns about a fixed pivot of the reference body (they share a pivot: both centrodes are
+        that one point), else None. ``size`` mm: the linkage's size; the centres must all lie
+        within ``rel`` of it of their mean (the solver's rounding)."""
+        ok = self.valid
+        if not ok.any():
+            return None
+        P, p = self.P[ok], self.p[ok]
+        spread = max(float(np.max(np.linalg.norm(P - P.mean(axis=0), axis=1))),
+                     float(np.max(np.linalg.norm(p - p.mean(axis=0), axis=1))))
+        if spread > rel * max(size, 1.0):
+            return None
+        x, y = P.mean(axis=0)
+        return float(x), float(y)
+
+    def point_message(self, at: tuple[float, float]) -> str:
+        """What to tell the user of a point-like centrode at ``at`` (mm)."""
+        rel = "the frame" if self.relative_to is None else f"link {self.relative_to!r}"
+        return (f"the centrode is a point at ({at[0]:.9g}, {at[1]:.9g}) mm: link {self.link!r} turns about a pivot "
+                f"it shares with {rel}, so both centrodes are that pivot (no curve to cut; choose a link that does "
+                f"not share a pivot with {rel}, or another --relative-to)")
+
     def table(self) -> Table:
         """CSV table with columns ``input P.x P.y p.x p.y valid`` (rad, mm, 1/0)."""
         return Table.from_columns({"input": self.input, "P.x": self.P[:, 0], "P.y": self.P[:, 1],

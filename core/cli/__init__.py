@@ -41,7 +41,8 @@ HANDLERS: dict[str, str] = {
 
 #: a handler function -> the command as the user types it (messages never name a function)
 COMMAND_WORDS: dict[str, str] = {"analyze": "mechsketch analyze", "analyze_forces": "mechsketch analyze --forces",
-                                 "synthesize": "mechsketch synthesize", "centrodes": "mechsketch centrodes"}
+                                 "synthesize": "mechsketch synthesize", "centrodes": "mechsketch centrodes",
+                                 "centrodes_dxf": "mechsketch centrodes --dxf"}
 
 
 class CliError(MechsketchError, ValueError):
@@ -130,7 +131,10 @@ def build_parser() -> argparse.ArgumentParser:
     c.add_argument("--link", required=True)
     c.add_argument("--relative-to", dest="relative_to", default=None, metavar="L")
     c.add_argument("--samples", type=int, metavar="N")
-    c.add_argument("--csv", metavar="PATH|-", required=True)
+    out = c.add_mutually_exclusive_group(required=True)
+    out.add_argument("--csv", metavar="PATH|-", help="the instant centres per sample (input, P, p, valid)")
+    out.add_argument("--dxf", metavar="PATH", help="both centrodes as arc-fitted curves (the pitch curves)")
+    c.add_argument("--tolerance", type=float, metavar="MM", help="DXF: largest deviation of the arcs (default 0.01)")
     add_design_parser(sub)
     add_study_parser(sub)
     o = sub.add_parser("open", help="open a scene file in the desktop app")
@@ -231,7 +235,7 @@ def run(args: argparse.Namespace) -> int:
     elif args.command == "export":
         from .export_cmds import run_export
 
-        print(run_export(ws, args))
+        print(run_export(ws, args, _handler))
     elif args.command == "synthesize":
         el = _pick(scene, args.element, "synthesize")
         _emit(_handler(el, "synthesize")(ws, el.id), args.csv, args.summary)
@@ -239,7 +243,13 @@ def run(args: argparse.Namespace) -> int:
         from ..io.table import write_csv
 
         el = _pick(scene, args.element, "centrodes")
-        write_csv(_handler(el, "centrodes")(ws, el.id, args.link, args.relative_to, args.samples), args.csv)
+        if args.dxf is not None:
+            print(_handler(el, "centrodes_dxf")(ws, el.id, args.link, args.relative_to, args.samples, args.dxf,
+                                                args.tolerance))
+        else:
+            if args.tolerance is not None:
+                raise CliError("--tolerance applies to --dxf only (the CSV lists the exact centres)")
+            write_csv(_handler(el, "centrodes")(ws, el.id, args.link, args.relative_to, args.samples), args.csv)
     return 0
 
 

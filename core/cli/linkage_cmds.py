@@ -4,6 +4,7 @@ kinematic warnings ``validate`` prints (:func:`kinematic_warnings`)."""
 from __future__ import annotations
 
 import math
+import sys
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -84,8 +85,25 @@ def centrodes(ws: Workspace, element_id: str, link: str, relative_to: str | None
     """Instant centres of ``link`` (relative to the frame or ``relative_to``) as a CSV table."""
     from ..analyses.centrodes import linkage_centrodes
 
+    from ..io.dxf_centrodes import default_limit
+
     sol = ws.solve(element_id, samples=samples, order=1)
-    return linkage_centrodes(sol, ws.element(element_id), link, relative_to).table()
+    el = ws.element(element_id)
+    c = linkage_centrodes(sol, el, link, relative_to)
+    at = c.point(default_limit(el) / 20.0)
+    if at is not None:
+        print(f"note: {c.point_message(at)}", file=sys.stderr)
+    return c.table()
+
+
+def centrodes_dxf(ws: Workspace, element_id: str, link: str, relative_to: str | None, samples: int | None,
+                  path: str, tolerance: float | None) -> str:
+    """Write both centrodes of ``link`` as arc-fitted DXF curves (``tolerance`` mm, default
+    0.01; ``samples`` locate the translations, default 720); returns the export's report."""
+    from ..io.dxf_centrodes import export_centrodes
+
+    return export_centrodes(ws.plan(element_id), link, relative_to, path,
+                            0.01 if tolerance is None else tolerance, samples or 720).report()
 
 
 def kinematic_warnings(ws: Workspace) -> list[str]:

@@ -97,8 +97,9 @@ def export_centrodes(plan: Plan, link: str, relative_to: str | None, path: str |
 
     ``samples`` locate the stretches between translations; ``limit`` (mm, default
     :func:`default_limit`) cuts a curve running off towards a centre at infinity. Raises
-    :class:`GeometryError` for a bad tolerance, an unknown link, or centrodes that exist nowhere
-    (the link only translates), :class:`~mechsketch.core.errors.ExportError` if the file cannot
+    :class:`GeometryError` for a bad tolerance, an unknown link, centrodes that exist nowhere
+    (the link only translates) or that are one point ("the centrode is a point at (x, y)": the
+    link turns about a pivot it shares with the reference body), :class:`~mechsketch.core.errors.ExportError` if the file cannot
     be written.
     """
     if not (math.isfinite(tolerance) and tolerance >= MIN_TOLERANCE):
@@ -109,6 +110,9 @@ def export_centrodes(plan: Plan, link: str, relative_to: str | None, path: str |
     limit = default_limit(linkage) if limit is None else float(limit)
     direction = 1.0 if plan.omega >= 0 else -1.0
     stretches = _stretches(c, limit, direction)
+    at = c.point(limit / 20.0)
+    if at is not None:
+        raise GeometryError(c.point_message(at))
     if not stretches:
         raise GeometryError(f"link {link!r} has no centrode to export: its motion relative to "
                             f"{relative_to or 'the frame'} is a translation (or it cannot be assembled) "

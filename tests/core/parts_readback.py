@@ -17,6 +17,7 @@ from ezdxf.math import bulge_to_arc
 
 FLAT = 1e-4  # mm, sagitta of the chords used to rebuild polygons from the files
 JOIN = 1e-6  # mm, LINE/ARC ends closer than this are joined
+NOTES = "NOTES_"  # layers (DXF) and group ids (SVG, "notes-") that are not cut
 
 
 def _arc_points(c, r, a0, sweep) -> np.ndarray:
@@ -91,7 +92,7 @@ def read_dxf(path) -> tuple[ezdxf.document.Drawing, dict[str, list[np.ndarray]]]
             start = np.array([[c.x + r * math.cos(a0), c.y + r * math.sin(a0)]])
             pieces.setdefault(layer, []).append(np.vstack([start, _arc_points((c.x, c.y), r, a0, sweep)]))
     for layer, ps in pieces.items():
-        if not layer.startswith("trace_"):
+        if not layer.startswith(NOTES):
             rings.setdefault(layer, []).extend(_chains(ps))
     return doc, rings
 
@@ -107,9 +108,9 @@ def polygon_of(rings: list[np.ndarray]) -> shapely.Geometry:
 
 
 def dxf_parts(path) -> tuple[ezdxf.document.Drawing, dict[str, shapely.Polygon]]:
-    """Each part layer of a DXF as a polygon (labels and traces left out)."""
+    """Each part layer of a DXF as a polygon (the NOTES_ layers left out)."""
     doc, rings = read_dxf(path)
-    return doc, {k: polygon_of(v) for k, v in rings.items() if k != "LABELS" and not k.startswith("trace_")}
+    return doc, {k: polygon_of(v) for k, v in rings.items() if not k.startswith(NOTES)}
 
 
 _TOKEN = re.compile(r"[MLAZ]|-?[0-9.]+(?:e[-+]?[0-9]+)?", re.I)
@@ -172,3 +173,82 @@ def svg_parts(path) -> tuple[ET.Element, dict[str, shapely.Polygon]]:
             rings = [r for p in g.findall("s:path", ns) for r in svg_rings(p.get("d"))]
             out[gid[5:]] = polygon_of(rings)
     return root, out
+
+
+def _svg_ring_measures(d: str) -> list[tuple[float, float]]:
+    """Exact (length, signed area) of each closed ring of an SVG path, the arcs' centres found
+    from their end points by the specification's formulas (y as written)."""
+    toks = _TOKEN.findall(d)
+    out, k, cur, length, area, start = [], 0, None, 0.0, 0.0, None
+    while k < len(toks):
+        t = toks[k]
+        if t == "M":
+            cur = start = np.array([float(toks[k + 1]), float(toks[k + 2])])
+            length = area = 0.0
+            k += 3
+        elif t == "L":
+            p1 = np.array([float(toks[k + 1]), float(toks[k + 2])])
+            length += float(np.hypot(*(p1 - cur)))
+            area += 0.5 * (cur[0] * p1[1] - p1[0] * cur[1])
+            cur = p1
+            k += 3
+        elif t == "A":
+            r = float(toks[k + 1])
+            large, sweep = int(toks[k + 4]), int(toks[k + 5])
+            p1 = np.array([float(toks[k + 6]), float(toks[k + 7])])
+            _, _, dth = _svg_arc_centre(cur, p1, r, large, sweep)
+            length += abs(dth) * r
+            area += 0.5 * (cur[0] * p1[1] - p1[0] * cur[1]) + 0.5 * r * r * (dth - math.sin(dth))
+            cur = p1
+            k += 8
+        elif t.upper() == "Z":
+            length += float(np.hypot(*(start - cur)))
+            area += 0.5 * (cur[0] * start[1] - start[0] * cur[1])
+            out.append((length, area))
+            k += 1
+        else:
+            raise AssertionError(f"unexpected SVG path token {t!r}")
+    return out
+
+
+def svg_measures(path) -> dict[str, tuple[float, float]]:
+    """Per ``<g id="part-NAME">``: the exact length of its rings and the area they enclose
+    (the largest ring less the others; a drilling pattern: the sum)."""
+    root = ET.parse(path).getroot()
+    ns = {"s": "http://www.w3.org/2000/svg"}
+    out = {}
+    for g in root.findall("s:g", ns):
+        gid = g.get("id", "")
+        if gid.startswith("part-"):
+            rings = [m for p in g.findall("s:path", ns) for m in _svg_ring_measures(p.get("d"))]
+            areas = sorted((abs(a) for _, a in rings), reverse=True)
+            polys = [shapely.Polygon(r) for p in g.findall("s:path", ns) for r in svg_rings(p.get("d"))]
+            biggest = max(polys, key=lambda q: q.area)
+            nested = all(biggest.contains(q.representative_point()) for q in polys if q is not biggest)
+            enclosed = areas[0] - sum(areas[1:]) if nested and len(polys) > 1 else sum(areas)
+            if len(polys) == 1:
+                enclosed = areas[0]
+            out[gid[5:]] = (sum(length for length, _ in rings), enclosed)
+    return out
+
+
+def svg_max_sweep(path) -> float:
+    """The widest arc (rad) of any path of an SVG, its centre found from its end points."""
+    root = ET.parse(path).getroot()
+    widest = 0.0
+    for p in root.iter("{http://www.w3.org/2000/svg}path"):
+        toks = _TOKEN.findall(p.get("d"))
+        cur, k = None, 0
+        while k < len(toks):
+            t = toks[k]
+            if t in ("M", "L"):
+                cur = np.array([float(toks[k + 1]), float(toks[k + 2])])
+                k += 3
+            elif t == "A":
+                p1 = np.array([float(toks[k + 6]), float(toks[k + 7])])
+                _, _, dth = _svg_arc_centre(cur, p1, float(toks[k + 1]), int(toks[k + 4]), int(toks[k + 5]))
+                widest, cur = max(widest, abs(dth)), p1
+                k += 8
+            else:
+                k += 1
+    return widest

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import cmath
 import math
+import re
 
 import ezdxf
 import numpy as np
@@ -163,3 +164,63 @@ def test_bad_requests_are_refused_with_the_reason(fourbar, tmp_path):
         export_centrodes(plan, "coupler", None, tmp_path / "x.dxf", tolerance=0.0)
     with pytest.raises(GeometryError, match="no link 'nope'"):
         export_centrodes(plan, "nope", None, tmp_path / "x.dxf")
+
+
+def test_the_centrodes_command_writes_the_dxf_read_back_by_ezdxf_and_gdal(fourbar, tmp_path, capsys):
+    """``mechsketch centrodes SCENE --link coupler --dxf PATH``: the same curves as the API (the
+    fitted arcs' total length equals what GDAL measures per layer), audited by ezdxf."""
+    from ogr_readback import ogr_layers
+
+    from mechsketch.core.cli import main
+
+    scene = str(example_path("fourbar_coupler_centrodes"))
+    path = tmp_path / "c.dxf"
+    assert main(["centrodes", scene, "--link", "coupler", "--dxf", str(path), "--tolerance", "0.02"]) == 0
+    out = capsys.readouterr().out
+    assert "FIXED_CENTRODE" in out and "tolerance 0.02 mm" in out
+    doc = ezdxf.readfile(path)
+    assert not doc.audit().has_errors
+    ref = export_centrodes(compile_plan(fourbar), "coupler", None, tmp_path / "api.dxf", tolerance=0.02)
+    assert ref.max_deviation <= 0.02
+    ogr = ogr_layers(path)
+    marks = {layer: 2 * math.pi * 1.0 * len([e for e in doc.modelspace().query("CIRCLE") if e.dxf.layer == layer])
+             for layer in ("FIXED_CENTRODE", "MOVING_CENTRODE")}
+    for layer, fits in (("FIXED_CENTRODE", ref.fixed), ("MOVING_CENTRODE", ref.moving)):
+        exact = sum(abs(a.sweep) * a.radius if a.center is not None else math.dist(a.start, a.end)
+                    for f in fits for a in f.arcs)
+        assert ogr[layer][1] - marks[layer] == pytest.approx(exact, rel=1e-6)
+
+
+@pytest.mark.parametrize("link, rel, at", [("crank", None, (0.0, 0.0)),
+                                           ("coupler", "crank", (B0.real, B0.imag)),
+                                           ("coupler", "rocker", (C0.real, C0.imag))])
+def test_a_point_like_centrode_is_named_as_a_point(tmp_path, capsys, link, rel, at):
+    """A link turning about a pivot it shares with the reference body: "the centrode is a point
+    at (x, y)", not a failed fit (it was "more than 20000 biarcs"); nothing is written. The CSV is
+    written with the same note."""
+    from mechsketch.core.cli import main
+
+    scene = str(example_path("fourbar_coupler_centrodes"))
+    extra = ["--relative-to", rel] if rel else []
+    assert main(["centrodes", scene, "--link", link, *extra, "--dxf", str(tmp_path / "p.dxf")]) == 1
+    err = capsys.readouterr().err
+    m = re.search(r"the centrode is a point at \((\S+), (\S+)\) mm", err)
+    assert m and "biarc" not in err and not (tmp_path / "p.dxf").exists()
+    assert (float(m[1]), float(m[2])) == pytest.approx(at, abs=1e-6)
+    assert main(["centrodes", scene, "--link", link, *extra, "--csv", str(tmp_path / "p.csv")]) == 0
+    assert "the centrode is a point at" in capsys.readouterr().err and (tmp_path / "p.csv").exists()
+
+
+def test_the_centrodes_command_refuses_what_does_not_fit(tmp_path, capsys):
+    from mechsketch.core.cli import main
+
+    scene = str(example_path("fourbar_coupler_centrodes"))
+    with pytest.raises(SystemExit) as e:   # one output, not both, not none
+        main(["centrodes", scene, "--link", "coupler", "--csv", "-", "--dxf", str(tmp_path / "x.dxf")])
+    assert e.value.code == 2
+    with pytest.raises(SystemExit):
+        main(["centrodes", scene, "--link", "coupler"])
+    assert main(["centrodes", scene, "--link", "coupler", "--csv", "-", "--tolerance", "0.1"]) == 1
+    assert "--tolerance applies to --dxf only" in capsys.readouterr().err
+    assert main(["centrodes", scene, "--link", "coupler", "--dxf", str(tmp_path / "x.dxf"), "--tolerance", "0"]) == 1
+    assert "tolerance" in capsys.readouterr().err and not (tmp_path / "x.dxf").exists()

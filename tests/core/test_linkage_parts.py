@@ -122,9 +122,9 @@ def test_coupler_curve_is_within_its_tolerance_of_the_solved_path(tmp_path):
     ps = linkage_parts(lk, plan, LinkageStyle(tolerance=0.005))
     (curve,) = ps.curves
     assert curve.name == "E" and curve.closed and curve.deviation <= 0.005
-    export_parts(ps, tmp_path / "c.dxf", layout="assembled")
+    export_parts(ps, tmp_path / "c.dxf", layout="assembled", annotate=True)
     doc = ezdxf.readfile(tmp_path / "c.dxf")
-    (pl,) = doc.modelspace().query('LWPOLYLINE[layer=="trace_E"]')
+    (pl,) = doc.modelspace().query('LWPOLYLINE[layer=="NOTES_TRACE_E"]')
     assert pl.closed
     from parts_readback import _lwpolyline_ring  # the same decoding as the parts
     ring = shapely.LinearRing(_lwpolyline_ring(pl))
@@ -222,6 +222,68 @@ def test_disc_hull_against_shapely():
         assert poly.area == pytest.approx(ref.area, rel=1e-5)
         assert poly.symmetric_difference(ref).area < 1e-3 * ref.length
     lay_out  # noqa: B018 - imported for the apart layout used above
+
+
+def test_a_separate_guide_plate_is_fastened_to_its_link_through_matching_holes(tmp_path):
+    """Issue 23 item 5: ``fasteners`` drills two holes beyond the ends of a separate guide
+    plate's slot, the same centres in the link it is stacked on; both parts keep their webs
+    (shapely: the fastener's distance to every other boundary of the guide plate), the assembled
+    export read back by GDAL has the guide plate's area less the two holes; a linkage without a
+    separate guide plate refuses the option; a fastener wider than the rim is refused."""
+    from mechsketch.core.analyses.parts import check_part, is_circle
+    from mechsketch.core.analyses.parts.build import PartOptions, element_parts
+    from ogr_readback import ogr_layers
+
+    el = example("sixbar_moving_guide")
+    plain = {p.name: p for p in element_parts(el, PartOptions()).parts}
+    ps = element_parts(el, PartOptions(fasteners=4.0))
+    by = {p.name: p for p in ps.parts}
+
+    def fasteners(p):
+        return sorted(tuple(np.round(is_circle(h)[0], 9)) for h in p.holes if h.kinds and h.kinds[0] == "fastener")
+
+    assert len(fasteners(by["rocker_guide_Q"])) == 2 and fasteners(by["rocker_guide_Q"]) == fasteners(by["rocker"])
+    for name in ("rocker_guide_Q", "rocker"):
+        assert check_part(by[name], 1.0).web >= 1.1
+        poly = by[name].polygon(1e-6)
+        for x, y in fasteners(by[name]):
+            rings = [poly.exterior] + [r for r in poly.interiors if r.distance(shapely.Point(x, y)) > 2.0 + 1e-6]
+            assert min(r.distance(shapely.Point(x, y)) for r in rings) - 2.0 >= 1.1 - 1e-6
+    path = tmp_path / "six.dxf"
+    export_parts(ps, path, layout="assembled")
+    area = plain["rocker_guide_Q"].area - 2 * math.pi * 2.0 ** 2
+    assert ogr_layers(path)["rocker_guide_Q"][0] == pytest.approx(area, rel=1e-6)
+    with pytest.raises(GeometryError, match="has none"):
+        element_parts(example("fourbar_crank_rocker"), PartOptions(fasteners=4.0))
+    with pytest.raises(GeometryError, match="must fit its rim"):
+        element_parts(el, PartOptions(fasteners=9.0))
+
+
+def test_a_drilling_pattern_frame_can_sit_on_a_base_plate(tmp_path):
+    """Issue 23 item 5: with ``frame`` "drill" and ``base_plate`` the frame's pivots are carried
+    by a rectangular plate one boss radius around them (GDAL: its area is the rectangle's less the
+    bores); without "drill" the option is refused with what to choose."""
+    from mechsketch.core.analyses.parts import is_circle
+    from mechsketch.core.analyses.parts.build import PartOptions, element_parts
+    from ogr_readback import ogr_layers
+
+    el = example("sixbar_moving_guide")
+    drill = {p.name: p for p in element_parts(el, PartOptions(frame="drill")).parts}["ground"]
+    ps = element_parts(el, PartOptions(frame="drill", base_plate=True))
+    base = {p.name: p for p in ps.parts}["ground"]
+    centres = np.array([is_circle(h)[0] for h in base.holes])
+    assert drill.outer is None and np.array_equal(centres, [is_circle(h)[0] for h in drill.holes])
+    r = max(is_circle(h)[1] for h in base.holes)
+    x0, y0, x1, y1 = base.outer.points[:, 0].min(), base.outer.points[:, 1].min(), \
+        base.outer.points[:, 0].max(), base.outer.points[:, 1].max()
+    boss = (x1 - x0 - np.ptp(centres[:, 0]) - 2 * r) / 2
+    assert boss == pytest.approx((y1 - y0 - np.ptp(centres[:, 1]) - 2 * r) / 2, abs=1e-9) and boss > 0
+    path = tmp_path / "base.dxf"
+    export_parts(ps, path, layout="assembled")
+    holes = sum(math.pi * is_circle(h)[1] ** 2 for h in base.holes)
+    assert ogr_layers(path)["ground"][0] == pytest.approx((x1 - x0) * (y1 - y0) - holes, rel=1e-6)
+    with pytest.raises(GeometryError, match="choose PartOptions.frame drill"):
+        element_parts(el, PartOptions(base_plate=True))
 
 
 @pytest.mark.parametrize("name", LINKAGES)

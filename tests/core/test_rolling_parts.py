@@ -100,3 +100,64 @@ def test_the_papers_construction_gives_a_slider_profile_that_folds_back_and_is_r
 def test_bad_styles_are_refused(style, message):
     with pytest.raises(GeometryError, match=message):
         rolling_parts(synth("rolling_lever_press"), style)
+
+
+def _centres(part, kind="fastener"):
+    from mechsketch.core.analyses.parts import is_circle
+
+    return sorted((round(c[0][0], 9), round(c[0][1], 9)) for h in part.holes if h.kinds and h.kinds[0] == kind
+                  for c in [is_circle(h)])
+
+
+@pytest.mark.parametrize("base", [False, True])
+def test_fastener_holes_match_on_the_part_the_frame_plate_mounts_on(tmp_path, base):
+    """Issue 23 item 5: two Ø5 mm fastener holes in the frame and slider plates, one diameter in
+    from the back edge (measured with shapely: the centre's distance to the plate's back line),
+    the frame's pair at the same places in the drilling pattern or the base plate, which then
+    carries every pivot and encloses the frame plate; the plates keep ≥ 1.1 × the minimum web;
+    OGR reads the frame plate's area as the outline's less the two holes (within 1e-6)."""
+    from ogr_readback import ogr_layers
+
+    from mechsketch.core.analyses.parts import check_part
+
+    res = synth("rolling_lever_press")
+    plain = rolling_parts(res)
+    ps = rolling_parts(res, RollingStyle(fasteners=5.0, base_plate=base))
+    by = {p.name: p for p in ps.parts}
+    mount = by["base_plate" if base else "frame_pivots"]
+    assert ("frame_pivots" in by) == (not base)
+    assert len(_centres(by["frame"])) == len(_centres(by["slider"])) == 2
+    assert _centres(mount) == _centres(by["frame"])
+    pivots = {p.name: p for p in plain.parts}["frame_pivots"]
+    assert _centres(mount, "bore") == _centres(pivots, "bore")
+    for name in ("frame", "slider"):
+        poly = by[name].polygon(1e-6)
+        for x, y in _centres(by[name]):     # the nearest edge is the back, one diameter away
+            assert shapely.Point(x, y).distance(poly.exterior) == pytest.approx(5.0, abs=1e-6)
+        assert check_part(by[name], 1.0).web >= 1.1
+    if base:
+        plate = mount.polygon(1e-6)
+        assert shapely.Polygon(plate.exterior).contains(by["frame"].polygon(1e-6))
+        assert check_part(mount, 1.0).ok
+    path = tmp_path / "rl.dxf"
+    exp = export_parts(ps, path, layout="assembled")
+    assert "fasteners: 2 × Ø5 mm" in exp.report
+    area = abs(by["frame"].outer.area()) - 2 * math.pi * 2.5 ** 2
+    assert ogr_layers(path)["frame"][0] == pytest.approx(area, rel=1e-6)
+
+
+def test_fastener_and_base_plate_options_are_refused_where_they_do_not_apply(tmp_path, capsys):
+    from mechsketch.core.cli import main
+
+    rl, gv = (str(resources.example_path(n)) for n in ("rolling_lever_press", "geneva_z6"))
+    assert main(["export", rl, "--dxf", str(tmp_path / "a.dxf"), "--fasteners", "5", "--base-plate"]) == 0
+    assert "base_plate:" in capsys.readouterr().out
+    assert main(["export", gv, "--dxf", str(tmp_path / "g.dxf"), "--fasteners", "5"]) == 1
+    assert "--fasteners does not apply" in capsys.readouterr().err
+    assert main(["export", gv, "--dxf", str(tmp_path / "g.dxf"), "--base-plate"]) == 1
+    assert "--base-plate does not apply" in capsys.readouterr().err
+    assert main(["export", rl, "--dxf", str(tmp_path / "b.dxf"), "--fasteners", "0"]) == 1
+    assert "--fasteners must be a positive number" in capsys.readouterr().err
+    assert main(["export", rl, "--dxf", str(tmp_path / "b.dxf"), "--fasteners", "30"]) == 1
+    assert "below half the plate depth" in capsys.readouterr().err
+    assert not (tmp_path / "g.dxf").exists() and not (tmp_path / "b.dxf").exists()

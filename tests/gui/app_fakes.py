@@ -59,7 +59,7 @@ class FakeDialogs:
         self.questions.append((title, f"{text} [{value:g} {unit}]"))
         return self.numbers.popleft() if self.numbers else None
 
-    def export_request(self, title, choices, default_id, fmt, min_webs=None):
+    def export_request(self, title, choices, default_id, fmt, min_webs=None, kinds=None, sizes=None):
         """The next queued ExportRequest (a callable gets the arguments), else the dialog's defaults."""
         from mechsketch.gui.export_dialog import ExportRequest
 

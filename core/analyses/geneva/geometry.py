@@ -41,6 +41,9 @@ if TYPE_CHECKING:
 RELIEF_ROUND = 1e-3
 #: the default crank bore is this fraction of the locking disc's radius (capped by the relief)
 CRANK_BORE_FRACTION = 0.25
+#: sizes chosen by default keep their webs this far over the minimum web (issue 23: a part made at
+#: exactly its minimum is read below it by other tools' rounding; the z = 8 locking disc was 1.0000 mm)
+DEFAULT_WEB_MARGIN = 1.1
 
 
 def wheel_outline(d: WheelDimensions) -> Contour:
@@ -134,12 +137,13 @@ def relief(d: WheelDimensions, clearance_lock: float) -> Relief:
 
 def arm_radii(crank_bore: float, pin: float, roller: float, min_web: float) -> tuple[float, float]:
     """The crank arm's hub and boss radii (mm): the bore and the pin each with a web of at least
-    ``min_web`` and half their own radius; the boss kept off the roller's radius so that the
+    110 % of ``min_web`` (:data:`DEFAULT_WEB_MARGIN`) and half their own radius; the boss kept off the roller's radius so that the
     arm's end arc never lies on the roller's outline."""
-    hub = crank_bore + max(min_web, 0.5 * crank_bore, 0.5 * pin)
-    boss = pin + max(min_web, 0.5 * pin)
+    web = DEFAULT_WEB_MARGIN * min_web
+    hub = crank_bore + max(web, 0.5 * crank_bore, 0.5 * pin)
+    boss = pin + max(web, 0.5 * pin)
     if abs(boss - roller) <= 0.05 * roller:
-        boss = pin + max(min_web, 0.5 * pin) + 0.1 * roller
+        boss = pin + max(web, 0.5 * pin) + 0.1 * roller
     return hub, boss
 
 
@@ -206,12 +210,13 @@ def geometry(element: "Geneva") -> GenevaGeometry:
     wheel_bore = element.load.journal_radius if dr is None or dr.wheel_bore_radius is None else dr.wheel_bore_radius
     room = a - rel.drawn
     if dr is None or dr.crank_bore_radius is None:
-        crank_bore = min(CRANK_BORE_FRACTION * d.lock_disc_radius, room - m)
+        crank_bore = min(CRANK_BORE_FRACTION * d.lock_disc_radius, room - DEFAULT_WEB_MARGIN * m)
         if not crank_bore > 0:
             raise GeometryError(f"geneva {element.id!r}: no room for a crank bore: the locking disc's relief "
                                 f"(radius {rel.drawn:.6g} mm at {a:.6g} mm) comes within A − relief = {room:.6g} mm "
-                                f"of the crank centre, not more than the minimum web {m:.6g} mm (drawing.min_web); "
-                                "change slots (fewer), center_distance (larger) or roller_radius (smaller)")
+                                f"of the crank centre, not more than 110 % of the minimum web {m:.6g} mm "
+                                "(drawing.min_web; default sizes keep 10 % over it); change slots (fewer), "
+                                "center_distance (larger) or roller_radius (smaller), or give drawing.crank_bore_radius")
     else:
         crank_bore = dr.crank_bore_radius
         if not crank_bore < room - m:
@@ -223,7 +228,7 @@ def geometry(element: "Geneva") -> GenevaGeometry:
                             f"{d.lock_disc_radius - crank_bore:.6g} mm around the crank bore, less than the minimum "
                             f"web {m:.6g} mm; change drawing.crank_bore_radius or drawing.locking_arc_radius")
     rp = element.roller_radius
-    pin = min(0.5 * rp, rp - m) if dr is None or dr.pin_radius is None else dr.pin_radius
+    pin = min(0.5 * rp, rp - DEFAULT_WEB_MARGIN * m) if dr is None or dr.pin_radius is None else dr.pin_radius
     disc, psi = locking_disc_outline(d.lock_disc_radius, rel.drawn, a)
     margin = d.phi0 + d.lock_half_angle - psi
     if not margin > 0:

@@ -259,11 +259,22 @@ def require_checked(ps: PartSet, min_web: float = DEFAULT_MIN_WEB, vocab: Vocabu
     return checks
 
 
-def report_lines(checks: Sequence[PartCheck], min_web: float) -> list[str]:
-    """One line per part: area, thinnest web, curve deviation (what the export report lists)."""
+def report_lines(checks: Sequence[PartCheck], min_web: float, written: Sequence[Part] | None = None,
+                 kerf: float = 0.0) -> list[str]:
+    """One line per part: area, thinnest web, curve deviation (what the export report lists) and,
+    given the parts as ``written`` (the edges, or the tool paths for a ``kerf``), the length of
+    their contours (the cut length) and the area they enclose (outline less holes), mm and mm²."""
     out = []
-    for c in checks:
+    for k, c in enumerate(checks):
         web = "—" if not math.isfinite(c.web) else f"{c.web:.4f} mm"
         dev = "exact lines and arcs" if c.deviation == 0 else f"fitted edges within {c.deviation:.3e} mm of the exact curve"
-        out.append(f"  {c.name}: area {c.area:.3f} mm², thinnest web {web} (minimum {min_web:g} mm), {dev}")
+        cut = ""
+        if written is not None:
+            w = written[k]
+            length = sum(ct.length for ct in w.contours)
+            enclosed = abs(w.outer.area()) - sum(abs(h.area()) for h in w.holes) if w.outer is not None else \
+                sum(abs(h.area()) for h in w.holes)
+            what = f"tool paths (kerf {kerf:g} mm)" if kerf else "as written"
+            cut = f", {what}: cut length {length:.6f} mm enclosing {enclosed:.6f} mm²"
+        out.append(f"  {c.name}: area {c.area:.6f} mm²{cut}, thinnest web {web} (minimum {min_web:g} mm), {dev}")
     return out

@@ -20,7 +20,9 @@ from dataclasses import dataclass
 #: prefix of canonical keys that are export options only
 OPTION = "option:"
 #: export options in words, where a front end has no name for them
-WORDS = {"min_web": "minimum web", "depth": "plate depth", "tolerance": "curve tolerance", "kerf": "kerf"}
+WORDS = {"min_web": "minimum web", "depth": "plate depth", "tolerance": "curve tolerance", "kerf": "kerf",
+         "bore_key": "bore key", "fasteners": "fastener diameter", "base_plate": "base plate",
+         "arcs_entities": "LINE/ARC entities", "annotate": "annotations"}
 
 
 @dataclass(frozen=True)
@@ -39,7 +41,8 @@ class Vocabulary:
 #: the Python API: options are the fields of :class:`~.build.PartOptions`
 API = Vocabulary(tuple((k, f"PartOptions.{k}") for k in (
     "boss_radius", "bore_diameter", "link_width", "min_web", "tolerance", "depth", "frame", "kerf",
-    "fasteners", "base_plate")), "the Python API")
+    "fasteners", "base_plate", "bore_key")) + (("arcs_entities", "arcs='entities'"), ("annotate", "annotate=True")),
+    "the Python API")
 
 
 def name_of(key: str, vocab: Vocabulary = API) -> str:

@@ -38,7 +38,7 @@ from ...solver.plan import Plan
 from ...solver.structure import GroupKind
 from ..biarc import fit_biarcs
 from ..contour import Contour
-from .outline import circle, disc_hull, rectangle, stadium
+from .outline import circle, contour_bounds, disc_hull, rectangle, stadium
 from .records import Curve, Part, PartSet
 
 FRAMES = ("plate", "drill")
@@ -58,7 +58,10 @@ BLOCK_KEYS = ("drawing.block_length", "drawing.block_width")
 class LinkageStyle:
     """Plate sizes (mm); None means the scaled default (see the module docstring). ``names``
     pairs (field, words): how a message names where a size came from (default ``drawing.FIELD``,
-    ``width`` as ``drawing.link_width``)."""
+    ``width`` as ``drawing.link_width``). ``fasteners``: the diameter of the two holes that fasten
+    a separate guide plate to its link (one beyond each end of the slot, through both).
+    ``base_plate`` (with ``frame`` "drill"): the frame's drilling pattern on a rectangular plate
+    one boss radius around its holes (the pivots and the fasteners of guide plates on it)."""
 
     boss_radius: float | None = None
     bore_diameter: float | None = None
@@ -69,6 +72,8 @@ class LinkageStyle:
     frame: str = "plate"
     tolerance: float = 0.01
     names: tuple[tuple[str, str], ...] = ()
+    fasteners: float | None = None
+    base_plate: bool = False
 
     def name(self, field: str) -> str:
         """The words for size ``field`` in messages."""
@@ -173,6 +178,25 @@ def _bar(p: np.ndarray, q: np.ndarray, boss: float, width: float) -> Contour:
     return Contour(local, bul, ("plate",) * 4).moved(ang, (float(p[0]), float(p[1])))
 
 
+def _base_plate(holes: list, margin: float):
+    """A rectangle ``margin`` mm around the bounds of ``holes`` (a frame's drilling pattern)."""
+    b = np.array([contour_bounds(h) for h in holes])
+    x0, y0, x1, y1 = b[:, 0].min() - margin, b[:, 1].min() - margin, b[:, 2].max() + margin, b[:, 3].max() + margin
+    return rectangle(((x0 + x1) / 2, (y0 + y1) / 2), x1 - x0, y1 - y0, 0.0, "base")
+
+
+def _guide_fasteners(a, b, u, r_slot: float, margin: float, d: float | None, name: str, min_web: float) -> list:
+    """The fastener holes (Ø ``d`` mm) of a separate guide plate, one beyond each end of its slot
+    midway across the plate's rim (the same holes go through the link below); none if ``d`` is None."""
+    if d is None:
+        return []
+    if not (math.isfinite(d) and 0 < d <= margin - 2.2 * min_web):
+        raise GeometryError(f"the fasteners of {name} (Ø{d:g} mm) must fit its rim of {margin:.4g} mm with 10 % over "
+                            f"the minimum web {min_web:g} mm each side: at most Ø{margin - 2.2 * min_web:.4g} mm")
+    off = (r_slot + 0.5 * margin) * u
+    return [circle(a - off, 0.5 * d, "fastener"), circle(b + off, 0.5 * d, "fastener")]
+
+
 def linkage_parts(linkage: Linkage, plan: Plan, style: LinkageStyle = LinkageStyle(),
                   min_web: float = 1.0, traces: bool = True) -> PartSet:
     """The plates of ``linkage`` (compiled ``plan``) in the drawn pose; see the module docstring.
@@ -226,9 +250,13 @@ def linkage_parts(linkage: Linkage, plan: Plan, style: LinkageStyle = LinkageSty
                 # stacked on the link (fastened where they overlap)
                 name = f"{lk.id}_guide_{t.joint}"
                 guide = stadium(a, b, r_slot + margin, "plate")
-                parts.append(Part(name, guide, (slot,), group=name, keys=KEYS + BLOCK_KEYS[1:]))
+                pins = _guide_fasteners(a, b, u, r_slot, margin, style.fasteners, name, min_web)
+                holes += pins
+                parts.append(Part(name, guide, (slot,) + tuple(pins), group=name, keys=KEYS + BLOCK_KEYS[1:]
+                                  + (("option:fasteners",) if pins else ())))
                 notes.append(where + f"; it passes over the pin at {', '.join(clash)}, so the guide is the "
-                                     f"separate plate {name}, stacked on {lk.id}")
+                                     f"separate plate {name}, stacked on {lk.id}"
+                             + (f", fastened to it by 2 × Ø{style.fasteners:g} mm beyond the slot's ends" if pins else ""))
                 discs += [(a, r_slot + margin), (b, r_slot + margin)]
                 continue
             holes.append(slot)
@@ -257,7 +285,7 @@ def linkage_parts(linkage: Linkage, plan: Plan, style: LinkageStyle = LinkageSty
         else:
             outer = disc_hull(np.array([d[0] for d in discs]), np.array([d[1] for d in discs]))
         if lk.id == linkage.ground and style.frame == "drill":
-            outer = None
+            outer = _base_plate(holes, boss) if style.base_plate else None
         parts.append(Part(lk.id, outer, tuple(holes), group=lk.id, keys=keys))
     curves = _traces(linkage, plan, style.tolerance, notes) if traces else []
     notes.insert(0, f"plates: boss radius {boss:.3f} mm, bores Ø{2 * bore:.3f} mm, bar width {width:.3f} mm"

@@ -22,14 +22,14 @@ from the exact centrode.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from ...errors import GeometryError
 from ..biarc import BiarcFit, fit_biarcs
 from ..contour import Contour
-from .outline import ccw, circle
+from .outline import ccw, circle, contour_bounds, rectangle
 from .records import Part, PartSet
 from ..rolling.geometry import pose_state
 from ..rolling.synthesis import RollingSynthesis
@@ -45,12 +45,16 @@ class RollingStyle:
     """Sizes (mm): ``depth`` of the frame and slider plates behind their profiles (None: a
     quarter of the profile's chord, at least 3 pin diameters), ``boss`` around the lever's pins
     (None: one pin diameter), ``tolerance`` of the fitted profiles; ``depth_name``: how messages
-    name the depth (the front end's option)."""
+    name the depth (the front end's option). ``fasteners``: the diameter (mm) of the fastener
+    holes of the frame and slider plates (None: none; see :func:`fastener_centres`), matched in the
+    frame's drilling pattern or, with ``base_plate``, in a base plate carrying every pivot."""
 
     depth: float | None = None
     boss: float | None = None
     tolerance: float = 0.001
     depth_name: str = "the plate depth"
+    fasteners: float | None = None
+    base_plate: bool = False
 
 
 def _fit(curve_range, tolerance: float, what: str) -> BiarcFit:
@@ -73,7 +77,53 @@ def _backed(fit: BiarcFit, away: np.ndarray, depth: float, kind: str) -> Contour
     back1, back0 = p1 + depth * n, p0 + depth * n
     verts = np.array(pts + [back1, back0])
     bulges = np.array(bul + [0.0, 0.0, 0.0])
-    return ccw(Contour(verts, bulges, (kind,) * len(bulges)))
+    return ccw(Contour(verts, bulges, (kind,) * (len(bulges) - 2) + ("back", kind)))
+
+
+def fastener_centres(plate: Contour, depth: float, diameter: float) -> list[np.ndarray]:
+    """The fastener pattern of a backed plate (:func:`_backed`: its last two vertices are the back
+    edge): two holes of ``diameter`` mm at a quarter and three quarters of the back edge, their
+    centres one diameter in from it (a web of half a diameter to the edge), mm."""
+    pts = np.asarray(plate.points, float)
+    kinds = plate.kinds
+    back = [k for k in range(len(pts)) if kinds and kinds[k] == "back"]
+    b0, b1 = pts[back[0]], pts[(back[0] + 1) % len(pts)]
+    inward = np.array([-(b1 - b0)[1], (b1 - b0)[0]]) / np.hypot(*(b1 - b0))   # CCW: the inside is on the left
+    return [b0 + f * (b1 - b0) + diameter * inward for f in (0.25, 0.75)]
+
+
+def _with_fasteners(parts: tuple[Part, ...], style: RollingStyle, r_pin: float, depth: float) -> tuple[tuple[Part, ...], list[str]]:
+    """``parts`` with the fastener holes (and the base plate) of ``style``, and their report notes."""
+    d = style.fasteners
+    if d is None and not style.base_plate:
+        return parts, []
+    if d is not None and not (math.isfinite(d) and 0 < d < 0.5 * depth):
+        raise GeometryError(f"the fastener diameter must be a positive number of millimetres below half the plate "
+                            f"depth ({0.5 * depth:g} mm); got {d:g}")
+    by = {p.name: p for p in parts}
+    holes = {n: [circle(c, 0.5 * d, "fastener") for c in fastener_centres(by[n].outer, depth, d)] if d else []
+             for n in ("frame", "slider")}
+    out = {n: replace(by[n], holes=by[n].holes + tuple(holes[n]), keys=by[n].keys + ("option:fasteners",))
+           for n in ("frame", "slider")} if d else {}
+    pivots = by["frame_pivots"]
+    notes = [f"fasteners: 2 × Ø{d:g} mm in the frame and slider plates, at 1/4 and 3/4 of the back edge, "
+             f"{d:g} mm in from it; the frame's pair matched in the "
+             + ("base plate" if style.base_plate else "frame's drilling pattern (frame_pivots)")] if d else []
+    if style.base_plate:
+        d = d or 0.0
+        rings = [by["frame"].outer] + list(pivots.holes)
+        b = np.array([contour_bounds(c) for c in rings])
+        m = max(4 * r_pin, 2 * d)
+        x0, y0, x1, y1 = b[:, 0].min() - m, b[:, 1].min() - m, b[:, 2].max() + m, b[:, 3].max() + m
+        outline = rectangle(((x0 + x1) / 2, (y0 + y1) / 2), x1 - x0, y1 - y0, 0.0, "base")
+        out["frame_pivots"] = Part("base_plate", outline, pivots.holes + tuple(holes["frame"]), group="base_plate",
+                                   keys=pivots.keys + ("option:base_plate", "option:fasteners"))
+        notes.append(f"base_plate: {x1 - x0:.3f} × {y1 - y0:.3f} mm carrying the pivots and the frame plate's "
+                     f"fasteners, {m:g} mm around them")
+    else:
+        out["frame_pivots"] = replace(pivots, holes=pivots.holes + tuple(holes["frame"]),
+                                      keys=pivots.keys + ("option:fasteners",))
+    return tuple(out.get(p.name, p) for p in parts), notes
 
 
 def rolling_parts(res: RollingSynthesis, style: RollingStyle = RollingStyle()) -> PartSet:
@@ -140,7 +190,8 @@ def rolling_parts(res: RollingSynthesis, style: RollingStyle = RollingStyle()) -
     if res.method != "exact":
         dev = float(np.max(res.reference().distance(res.P)))
         notes.append(f"note: the {res.method} construction itself deviates {dev:.4g} mm from the exact centrode")
-    return PartSet(el.id, parts, (), tuple(notes))
+    parts, more = _with_fasteners(parts, style, r_pin, depth)
+    return PartSet(el.id, parts, (), tuple(notes + more))
 
 
 def _tangent(ci: np.ndarray, ri: float, cj: np.ndarray, rj: float) -> tuple[np.ndarray, np.ndarray]:
