@@ -61,7 +61,7 @@ from PySide6.QtCore import QPointF, QRectF, Qt  # noqa: E402
 from PySide6.QtTest import QTest  # noqa: E402
 
 from chains import dyad_chain  # noqa: E402
-from mechsketch.core import Scene, load_scene  # noqa: E402
+from mechsketch.core import ReplaceElement, Scene, load_scene  # noqa: E402
 from mechsketch.core.analyses import classify as classify_mod  # noqa: E402
 from mechsketch.core.solver import plan as plan_mod  # noqa: E402
 from mechsketch.core.solver.plan import compile_plan  # noqa: E402
@@ -132,6 +132,47 @@ def branches_equal(a: dict, b: dict) -> bool:
     return a.keys() == b.keys() and all(np.array_equal(a[k], b[k]) for k in a)
 
 
+def drag_path(joint_at, radius: float, moves: int) -> list[tuple[float, float]]:
+    """The dragged joint's positions, warm-up (20) included: small steps along a circle."""
+    out = []
+    for k in range(moves + 20):
+        a = 2 * math.pi * k / 60.0
+        out.append((joint_at[0] + radius * (math.cos(a) - 1.0), joint_at[1] + radius * math.sin(a)))
+    return out
+
+
+def preview_baseline(scene: Scene, eid: str, joint: str, radius: float, moves: int) -> list[float]:
+    """Issue 26 item 1's baseline: the core re-solve of the same moves alone — ``Workspace.preview``
+    of the linkage with the joint moved, then its result (what the controller asks for) — GUI-thread
+    CPU ms per move, warm-up dropped."""
+    ws = Workspace(scene)
+    lk = ws.scene.element(eid)
+    ws.result(eid)
+    ws.begin_preview()
+    out = []
+    for k, p in enumerate(drag_path(lk.joint(joint).at, radius, moves)):
+        c0 = time.thread_time()
+        ws.preview(ReplaceElement(lk.with_joint_moved(joint, p)))
+        ws.result(eid)
+        c1 = time.thread_time()
+        if k >= 20:
+            out.append((c1 - c0) * 1e3)
+    ws.end_preview(notify=False)
+    return out
+
+
+def full_solve_baseline(scene: Scene, eid: str, repeat: int = 5) -> float:
+    """Issue 26 item 6's baseline: the element's full solve at the same samples (a fresh
+    workspace's result: compile, branch points, sweep), median GUI-thread CPU ms."""
+    times = []
+    for _ in range(repeat):
+        ws = Workspace(scene)
+        c0 = time.thread_time()
+        ws.result(eid)
+        times.append((time.thread_time() - c0) * 1e3)
+    return statistics.median(times)
+
+
 def run(case: str, samples: int, moves: int, size: tuple[int, int], hide_diagnostics: bool,
         timers: Timers | None = None) -> dict:
     timers = timers or Timers()
@@ -165,9 +206,7 @@ def run(case: str, samples: int, moves: int, size: tuple[int, int], hide_diagnos
     cols = defaultdict(list)
     unchanged = 0
     p = joint_at
-    for k in range(moves + 20):
-        a = 2 * math.pi * k / 60.0
-        p = (joint_at[0] + radius * (math.cos(a) - 1.0), joint_at[1] + radius * math.sin(a))
+    for k, p in enumerate(drag_path(joint_at, radius, moves)):
         before = ctl.result(eid)
         timers.reset()
         c0 = time.thread_time()
@@ -220,6 +259,9 @@ def run(case: str, samples: int, moves: int, size: tuple[int, int], hide_diagnos
     n_cmd = ctl.undo_stack.count()
     ctl.undo_stack.setClean()   # no 'save changes?' question on close
     parts.close()
+    # the baselines, in the same run: the core re-solve of the same moves, the full solve
+    preview = preview_baseline(scene, eid, joint, radius, moves)
+    full_ms = full_solve_baseline(ctl.scene, eid)
 
     def stats(xs: list[float]) -> dict:
         xs = sorted(xs)
@@ -233,6 +275,9 @@ def run(case: str, samples: int, moves: int, size: tuple[int, int], hide_diagnos
         **{f"{key}_ms": stats(v) for key, v in cols.items()},
         "error_drag_mm": err_drag, "error_release_mm": err_release, "branches_equal_fresh": br_drag,
         "summary_equal_fresh_after_release": diag_equal, "release_ms": release,
+        "preview_baseline_ms": stats(preview), "full_solve_ms": full_ms,
+        "drag_ratio": statistics.median(cols["cpu"]) / statistics.median(preview),
+        "release_ratio": release["cpu"] / full_ms,
         "target_ms": TARGET_MS.get(case, 16.0),
         "load_average": os.getloadavg()[0] if hasattr(os, "getloadavg") else None, "cpus": os.cpu_count(),
         "meets_target": statistics.median(cols["total"]) <= TARGET_MS.get(case, 16.0),
@@ -280,6 +325,13 @@ def main(argv: list[str] | None = None) -> int:
               f"classification {r['classify']:.1f} ms "
               f"({'before issue 14' if args.classify_reference else 'vectorised'}), diagnose() {r['diagnose']:.1f} ms, "
               f"solve {r['solve']:.1f} ms; panel refreshed: {r['panel_refreshed']}")
+        d = rep["preview_baseline_ms"]["median"]
+        print(f"issue 26 item 1, drag: ours {rep['cpu_ms']['median']:.2f} ms GUI-thread CPU per move, baseline "
+              f"Workspace.preview + result alone {d:.2f} ms, ratio {rep['drag_ratio']:.2f} (target <= 2.5: "
+              f"{'met' if rep['drag_ratio'] <= 2.5 else 'NOT met'}), load {rep['load_average']:.2f}")
+        print(f"issue 26 item 6, release: ours {r['cpu']:.1f} ms GUI-thread CPU, baseline the full solve "
+              f"{rep['full_solve_ms']:.1f} ms, ratio {rep['release_ratio']:.2f} (target <= 4: "
+              f"{'met' if rep['release_ratio'] <= 4 else 'NOT met'}), load {rep['load_average']:.2f}")
         print(f"error: drag vs fresh full solve max |dpos| {rep['error_drag_mm']:.3g} mm "
               f"(branch offsets equal: {rep['branches_equal_fresh']}); after release {rep['error_release_mm']:.3g} mm "
               f"(summary equal to a fresh workspace's: {rep['summary_equal_fresh_after_release']}); "

@@ -18,7 +18,7 @@ from pathlib import Path
 from PySide6.QtCore import QObject, Signal
 from PySide6.QtGui import QUndoCommand, QUndoStack
 
-from mechsketch.core.errors import MechsketchError
+from mechsketch.core.errors import EditError, MechsketchError
 from mechsketch.core.model.edits import Edit
 from mechsketch.core.model.linkage import Linkage
 from mechsketch.core.model.scene import Scene
@@ -26,6 +26,7 @@ from mechsketch.core.solver.diagnostics import Diagnostics
 from mechsketch.core.workspace import (Change, ElementResult, GearResult, GenevaResult, LinkageResult, RollingResult,
                                       Workspace)
 
+from .background import HEAVY_SECONDS, BackgroundSolver, estimated_seconds
 from .frames import map_frame
 from .qtsafe import qt_safe
 
@@ -73,6 +74,8 @@ class SceneController(QObject):
         self.selection: list[tuple[str, str, str]] = []   # (element id, SelectionKind, id)
         self.frame = 0
         self._reported: dict[str, object] = {}            # element id -> result whose error was shown
+        #: heavy solves off the GUI thread (push_when_solved); its busyChanged drives the status bar
+        self.background = BackgroundSolver(self)
         self.workspace.subscribe(self._on_change)
         self._solve(self.scene.ids, final=True)
 
@@ -159,6 +162,43 @@ class SceneController(QObject):
         self.undo_stack.push(EditCommand(self, edit, label))
         return True
 
+    def is_heavy(self, element) -> bool:
+        """Whether solving ``element`` (a candidate) would block the window: estimated above
+        :data:`~.background.HEAVY_SECONDS` and not cached."""
+        samples = self.workspace.samples_for(element)
+        return estimated_seconds(element, samples) > HEAVY_SECONDS and not self.workspace.has_result(element)
+
+    def push_when_solved(self, element, edit: Edit, text: str) -> bool:
+        """Push ``edit``, which puts the candidate ``element`` in the scene, once ``element`` is
+        solved: at once when that is quick (then as :meth:`push`; the core's message raised as
+        :class:`EditError` if it does not solve), else on a worker thread while the window keeps
+        working (``background``: busy indicator and Cancel), the edit landing when the result is
+        there if the document did not change meanwhile. Returns False if refused at once."""
+        if not self.is_heavy(element):
+            error = self.check_element(element)
+            if error is not None:
+                raise EditError(error)
+            return self.push(edit, text)
+        base = self.scene
+        samples = self.workspace.samples_for(element)
+
+        def landed(result) -> None:
+            if isinstance(result, MechsketchError | ValueError | ArithmeticError | OSError):
+                self.message.emit(f"cannot {text}: {result}")
+                return
+            self.workspace.keep_result(element, result)
+            if result is not None and result.error is not None:
+                self.message.emit(f"cannot {text}: {result.error}")
+            elif self.scene is not base:
+                self.message.emit(f"{text}: not applied, the document changed while it was solved "
+                                  "(its result is kept: do it again to apply it at once)")
+            else:
+                self.push(edit, text)
+
+        self.background.solve(element, samples, text if element.id in text else f"{text} ({element.id})", landed)
+        self.message.emit(f"solving {element.id} for '{text}' off the main window (Cancel in the status bar)")
+        return True
+
     def interrupt_preview(self) -> None:
         """An edit, undo or redo lands while a drag previews (a shortcut pressed mid-drag): the
         preview ends first, so the edit applies to the document and not to a preview of it, and
@@ -190,6 +230,7 @@ class SceneController(QObject):
 
     def reset(self, scene: Scene, path: Path | None = None) -> None:
         """Replace the document (New, Open): clears history, selection and frame."""
+        self.background.cancel()
         self.undo_stack.clear()
         self.path = path
         self.selection = []

@@ -216,6 +216,7 @@ class DesignDocks(QObject):
         self.docks: dict[str, QDockWidget] = {"study": self._dock("Study", self.study),
                                               "design": self._dock("Design", self.design)}
         self.session: TargetSession | None = None
+        self.docks["study"].visibilityChanged.connect(self.study.set_on_screen)
         self.study.bandChanged.connect(self._band)
         self.study.previewChanged.connect(self._preview)
         self.design.previewChanged.connect(self._preview)

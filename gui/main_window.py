@@ -24,6 +24,7 @@ from PySide6.QtWidgets import QApplication, QDockWidget, QLabel, QMainWindow, QM
 from mechsketch.core import ExportError
 
 from .autosave import Autosave
+from .busy import BusyIndicator
 from .controller import SceneController
 from .dialogs import DialogService
 from .selection import ELEMENT
@@ -146,6 +147,8 @@ class MainWindow(QMainWindow):
         self.statusBar().addPermanentWidget(self.cursor_label)
         self.statusBar().addPermanentWidget(self.solve_label)
         self.statusBar().addPermanentWidget(self.frame_label)
+        self.busy = BusyIndicator(controller.background)   # a heavy solve off the GUI thread (issue 20)
+        self.statusBar().addPermanentWidget(self.busy)
 
         # -- preferences (issue 24 item 9): units, snap, samples, dead points, new parts -----------
         self.preferences = load_preferences(file_ops.settings)

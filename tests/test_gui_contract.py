@@ -2,9 +2,10 @@
 
 Folders and files of ``gui/``, lowest first:
 
-- **base** — ``frames.py``, ``qpath.py``, ``qtsafe.py``, ``selection.py``, ``units.py`` (and the
-  package itself): helpers every part reads (frames and samples, array-to-path code, safe Qt
-  overrides, selection keys, display units); they import no other GUI module but each other;
+- **base** — ``background.py``, ``frames.py``, ``qpath.py``, ``qtsafe.py``, ``selection.py``,
+  ``units.py`` (and the package itself): helpers every part reads (heavy solves off the GUI
+  thread, frames and samples, array-to-path code, safe Qt overrides, selection keys, display
+  units); they import no other GUI module but each other;
 - **controller** — ``controller.py``, the Qt adapter over the workspace: base only;
 - **canvas** (``gui/canvas/``) and **panels** (``gui/panels/``): base, the controller and their own
   folder; they never import each other (the main window wires them with signals);
@@ -25,7 +26,7 @@ from import_graph import import_cycles
 
 GUI = Path(__file__).resolve().parents[1] / "gui"
 PACKAGE = "mechsketch.gui"
-BASE_FILES = {"__init__.py", "frames.py", "qpath.py", "qtsafe.py", "selection.py", "units.py"}
+BASE_FILES = {"__init__.py", "background.py", "frames.py", "qpath.py", "qtsafe.py", "selection.py", "units.py"}
 RANK = {"base": 0, "controller": 1, "canvas": 2, "panels": 2, "help": 2, "app": 3}
 #: groups of equal rank that must not import each other
 PEERS = {"canvas": "panels", "panels": "canvas"}

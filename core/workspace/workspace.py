@@ -451,6 +451,23 @@ class Workspace:
         self._store(self._forces, key, res)
         return res
 
+    def samples_for(self, element: Any) -> int | None:
+        """The samples a result of ``element`` is solved at here (the override for a linkage or
+        a Geneva drive, else None: the element's own)."""
+        return self._samples_for(element)
+
+    def has_result(self, element: Any) -> bool:
+        """Whether the result of ``element`` (in the scene or a candidate) is cached by value."""
+        try:
+            return (element, self._samples_for(element)) in self._by_value
+        except TypeError:   # an unhashable element is never cached
+            return False
+
+    def keep_result(self, element: Any, result: ElementResult | None) -> None:
+        """Cache ``result``, computed elsewhere as :func:`solve_element` ``(element,
+        samples_for(element))`` (a worker thread), so that the next request of ``element`` finds it."""
+        self._store(self._by_value, (element, self._samples_for(element)), result)
+
     def check_element(self, element: Any) -> str | None:
         """Solve ``element`` (a candidate, not yet in the scene) as the workspace would; the
         core's message if it fails, else None. The result is kept for when the edit lands."""

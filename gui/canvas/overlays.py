@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 from PySide6.QtCore import QPointF, QRectF, Qt
-from PySide6.QtGui import QBrush, QColor, QPainter, QPainterPath
+from PySide6.QtGui import QBrush, QColor, QFont, QFontMetricsF, QPainter, QPainterPath
 from PySide6.QtWidgets import QStyleOptionGraphicsItem, QWidget
 
 from mechsketch.core.analyses.centrodes import linkage_centrodes
@@ -54,6 +54,7 @@ class HandlesItem(_Item):
     def __init__(self) -> None:
         super().__init__()
         self.handles: list = []
+        self.placed: list[QRectF] = []   # the labels' boxes at the last paint (screen px)
         self.setZValue(90)
         self.setCacheMode(_Item.CacheMode.NoCache)
 
@@ -69,7 +70,49 @@ class HandlesItem(_Item):
             painter.setPen(_pen(HANDLE, 1.6))
             painter.setBrush(QBrush(QColor("white")))
             painter.drawRect(QRectF(h.at[0] - s, h.at[1] - s, 2 * s, 2 * s))
-            _text(painter, h.at, h.label, px, 9.0, -16.0, HANDLE, 10)
+        font = QFont(painter.font())
+        font.setPixelSize(LABEL_SIZE)
+        metrics = QFontMetricsF(font)
+        offsets, self.placed = place_labels([(h.at[0] / px, -h.at[1] / px) for h in self.handles],
+                                            [(metrics.horizontalAdvance(h.label), metrics.height()) for h in self.handles],
+                                            metrics.ascent())
+        for h, (dx, dy) in zip(self.handles, offsets):
+            _text(painter, h.at, h.label, px, dx, dy, HANDLE, LABEL_SIZE)
+
+
+#: a handle's label, px
+LABEL_SIZE = 10
+#: where a handle's label may go (dx, dy: px right and up of its handle, baseline start), by
+#: preference; the text's width is subtracted from the dx of the left-hand ones
+LABEL_PLACES = ((9.0, -16.0), (9.0, 8.0), (-9.0, -16.0), (-9.0, 8.0), (9.0, -30.0), (9.0, 22.0),
+                (-9.0, -30.0), (-9.0, 22.0))
+
+
+def place_labels(points: list[tuple[float, float]], sizes: list[tuple[float, float]],
+                 ascent: float) -> tuple[list[tuple[float, float]], list[QRectF]]:
+    """Offsets (dx, dy) in px of labels beside ``points`` (screen px, y down) whose texts are
+    ``sizes`` (width, height px): each takes the first of :data:`LABEL_PLACES` where its box meets
+    no label placed before it nor a handle's square (greedy, in order; the first place if none is
+    free). Returns the offsets and the boxes (screen px) — two handles close together (the
+    rolling lever's lever and slider circle centres) no longer print their labels over each other."""
+    squares = [QRectF(x - 6.0, y - 6.0, 12.0, 12.0) for x, y in points]
+    placed: list[QRectF] = []
+    offsets = []
+    for k, ((x, y), (w, h)) in enumerate(zip(points, sizes)):
+        choice = None
+        for dx, dy in LABEL_PLACES:
+            dx = dx - w if dx < 0 else dx
+            box = QRectF(x + dx, y - dy - ascent, w, h)
+            if not any(box.intersects(r) for r in placed) and not any(
+                    box.intersects(q) for j, q in enumerate(squares) if j != k):
+                choice = (dx, dy, box)
+                break
+        if choice is None:
+            dx, dy = LABEL_PLACES[0]
+            choice = (dx, dy, QRectF(x + dx, y - dy - ascent, w, h))
+        offsets.append(choice[:2])
+        placed.append(choice[2])
+    return offsets, placed
 
 
 class _ArraysItem(_Item):

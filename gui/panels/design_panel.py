@@ -24,6 +24,7 @@ from __future__ import annotations
 
 from typing import Callable
 
+import shiboken6
 from PySide6.QtCore import Qt, Signal
 from PySide6.QtGui import QKeySequence, QShortcut
 from PySide6.QtWidgets import (QCheckBox, QComboBox, QDoubleSpinBox, QFormLayout, QGroupBox, QHBoxLayout, QLabel,
@@ -243,6 +244,10 @@ class DesignPanel(QWidget):
         self.targetChanged.emit(shape if shape is not None and len(shape["points"]) else None)
 
     def _units_changed(self) -> None:
+        """The display units changed: the forms show theirs (nothing for a panel whose window was
+        closed: its Python object may outlive its widgets)."""
+        if not (shiboken6.isValid(self) and shiboken6.isValid(self.target)):
+            return
         self.target.redisplay()
         for form in (self.geneva, self.rolling, self.gears):
             form.redisplay()

@@ -3,7 +3,9 @@
 Every edit builds the new element by round-tripping the old one's dict through the scene reader
 (the element's JSON schema, then its module's ``parse``: :func:`~mechsketch.core.workspace.rebuild.rebuilt`),
 then solves it once through the controller (a stroke beyond the working range, a drive that cannot
-be drawn) and only then pushes one ``ReplaceElement`` command. A refused value raises
+be drawn) and only then pushes one ``ReplaceElement`` command (a heavy element, e.g. a rolling
+lever of 100,000 points, is solved off the GUI thread and its edit lands when it is solved:
+``SceneController.push_when_solved``). A refused value raises
 ``ValueError`` with the core's message, which the panel's field shows in the status bar while the
 document stays as it was. Widgets hold no model state: reads go to ``controller.scene``.
 """
@@ -30,10 +32,7 @@ def push_changes(controller, element_id: str, changes: dict[str, Any], label: st
         raise EditError(problem)
     if new == old:
         return False
-    error = controller.check_element(new)
-    if error is not None:
-        raise EditError(error)
-    return controller.push(ReplaceElement(new, label), label)
+    return controller.push_when_solved(new, ReplaceElement(new, label), label)
 
 
 def whole_number(value: float, what: str) -> int:

@@ -10,12 +10,16 @@ meets a deleted plot (issue 20, item 9).
 from __future__ import annotations
 
 import html
+import math
 from dataclasses import dataclass
 
 import numpy as np
 import pyqtgraph as pg
 from PySide6.QtCore import Qt
+from PySide6.QtGui import QFontMetrics
 from PySide6.QtWidgets import QLabel, QSizePolicy, QVBoxLayout, QWidget
+
+from ..qtsafe import qt_safe
 
 #: the least height of a plot (px): tick labels, the axis title and the curves stay readable;
 #: the panel's column scrolls rather than squeezing the plots below it
@@ -33,10 +37,18 @@ class Curve:
     y: np.ndarray
 
 
+def _nowrap(text: str) -> str:
+    """``text`` escaped for the legend with no place to break a line: its spaces non-breaking, a
+    word joiner (U+2060) after each "|" and "/" (Unicode lets a line break after them: "|v C|",
+    "mm/s" were split)."""
+    return html.escape(text).replace(" ", "&nbsp;").replace("|", "|\u2060").replace("/", "/\u2060")
+
+
 def _value_text(v: float) -> str:
     return "—" if not np.isfinite(v) else f"{v:.5g}"
 
 
+@qt_safe
 class PlotRow(QWidget):
     """A legend line above one plot; see the module docstring. ``plot`` is the PlotItem,
     ``cursor`` its InfiniteLine, ``curves`` name -> the PlotDataItem drawing it now."""
@@ -49,7 +61,9 @@ class PlotRow(QWidget):
         self.legend.setObjectName("plotLegend")
         self.legend.setTextFormat(Qt.TextFormat.RichText)
         self.legend.setWordWrap(True)
-        self.legend.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Preferred)
+        policy = QSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Fixed)
+        policy.setHeightForWidth(False)   # its height is set by fit_legend: the column's layout
+        self.legend.setSizePolicy(policy)  # then gives each row what its lines and plot take
         self.widget = pg.PlotWidget(background="w")
         self.widget.setMinimumHeight(ROW_HEIGHT)
         # its size hint (640 x 480) is not a wish: each plot takes ROW_HEIGHT and shares what is left
@@ -113,10 +127,49 @@ class PlotRow(QWidget):
         parts = []
         for k, c in enumerate(self._shown):
             swatch = f'<span style="color:{COLORS[k % len(COLORS)]}">&#9632;</span>'
-            text = f"{swatch}&nbsp;{html.escape(c.name)}"
+            text = f"{swatch}&nbsp;{_nowrap(c.name)}"
             if at is not None and c.x.size:
                 i = int(np.nanargmin(np.abs(c.x - at))) if np.isfinite(c.x).any() else 0
-                text += f" = {_value_text(float(c.y[i]))}"
-            parts.append(f"{text}&nbsp;{html.escape(c.unit)}")
-        lead = f"<b>{html.escape(x_text)}</b>&nbsp;&nbsp;" if at is not None and x_text else ""
+                text += f"&nbsp;=&nbsp;{_value_text(float(c.y[i]))}"
+            parts.append(f"{text}&nbsp;{_nowrap(c.unit)}")
+        lead = f"<b>{_nowrap(x_text)}</b>&nbsp;&nbsp; " if at is not None and x_text else ""
+        # a line may break between entries only ("|v C| = 176 mm/s" stays one piece)
         self.legend.setText(lead + "&nbsp;&nbsp; ".join(parts))
+        self.fit_legend()
+
+    def fit_legend(self) -> None:
+        """Give the legend the height its lines take at its width, so that a legend wrapped onto
+        a second line pushes its plot down (the row grows) instead of cutting the plot's tick
+        labels off at the row's bottom (issue 24 item 6)."""
+        need = self.legend.heightForWidth(max(1, self.legend.width()))
+        if need > 0 and need != self.legend.minimumHeight():
+            self.legend.setFixedHeight(need)
+            top, bottom = self.layout().contentsMargins().top(), self.layout().contentsMargins().bottom()
+            self.setMinimumHeight(need + ROW_HEIGHT + top + bottom)   # the column's layout reads it now
+
+    def resizeEvent(self, event) -> None:  # noqa: N802 - Qt override
+        super().resizeEvent(event)
+        self.fit_legend()   # another width wraps the legend onto another number of lines
+
+
+def align_left_axes(rows: list[PlotRow]) -> None:
+    """Give every row's left axis one width, that of the longest tick label (at the y range each
+    has now) plus the title: the plots then span the same pixels and their linked x range is the
+    same. With widths of their own pyqtgraph aligned the linked plots pixel by pixel, and a plot
+    whose tick labels were wider ("-5000") lost the start of its data off its left edge."""
+    widths = []
+    for row in rows:
+        ax = row.plot.getAxis("left")
+        font = ax.style["tickFont"] or ax.font()
+        metrics = QFontMetrics(font)
+        lo, hi = ax.range
+        levels = ax.tickValues(lo, hi, max(ax.size().height(), ROW_HEIGHT))[: ax.style["maxTickLevel"] + 1]
+        texts = [t for spacing, values in levels for t in ax.tickStrings(values, ax.scale, spacing)]
+        text = max((metrics.boundingRect(t).width() for t in texts if t), default=metrics.horizontalAdvance("0.0"))
+        label = ax.label.boundingRect().height() * 0.8 if ax.label.isVisible() else 0.0
+        widths.append(text + 4 + ax.style["tickTextOffset"][0] + max(0, ax.style["tickLength"]) + label)
+    width = math.ceil(max(widths, default=0.0))
+    for row in rows:
+        ax = row.plot.getAxis("left")
+        if ax.fixedWidth != width:
+            ax.setWidth(width)

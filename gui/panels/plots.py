@@ -35,7 +35,7 @@ from ..controller import SceneController
 from ..qtsafe import guard_library, qt_safe
 from .lazy import LazyRefresh
 from .linkage_plots import plot_data, robust_range  # noqa: F401 - re-exported
-from .plot_rows import Curve, PlotRow
+from .plot_rows import Curve, PlotRow, align_left_axes
 from .plot_series import PLOTS, PlotData, in_display_units
 
 pg.setConfigOptions(antialias=True, background="w", foreground="k")   # the app's look (set on import: the
@@ -222,9 +222,14 @@ class PlotsPanel(LazyRefresh, QWidget):
                 row.plot.enableAutoRange(axis="y")
             else:
                 row.plot.setYRange(*lo_hi, padding=0.05)
+        align_left_axes(rows)
         self._show_values()
         if data.x.size and np.isfinite(data.x).any():
             rows[0].plot.setXRange(float(np.nanmin(data.x)), float(np.nanmax(data.x)), padding=0.02)
+        else:   # nothing to plot (New): one turn, not the axes of the document before
+            for row in rows:
+                row.plot.setXRange(0.0, 360.0, padding=0.02)
+                row.plot.setYRange(0.0, 1.0, padding=0.02)
         self._move_cursor(self.controller.frame)
 
     def _move_cursor(self, frame: int) -> None:

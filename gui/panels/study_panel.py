@@ -19,6 +19,7 @@ leaves everything as it was. Signals for the canvas (wired by the main window):
 """
 from __future__ import annotations
 
+import shiboken6
 from PySide6.QtCore import Qt, Signal
 from PySide6.QtGui import QKeySequence, QShortcut
 from PySide6.QtWidgets import (QCheckBox, QComboBox, QDoubleSpinBox, QFormLayout, QGroupBox, QHBoxLayout, QLabel,
@@ -33,7 +34,6 @@ from ..qtsafe import qt_safe
 from ..selection import ELEMENT
 from . import study_runs as R
 from .jobs import JobRunner
-from .lazy import LazyRefresh
 from .study_inputs import ClearanceTable, EntryError, VariableTable
 
 MODES = (("tolerance", "Tolerance (Monte Carlo)"), ("optimize", "Optimise (Pareto front)"))
@@ -51,12 +51,14 @@ def _spin(lo: int, hi: int, value: int, step: int = 1, name: str = "") -> QSpinB
 
 
 @qt_safe
-class StudyPanel(LazyRefresh, QWidget):
+class StudyPanel(QWidget):
     """The Study dock's widget (see the module docstring)."""
 
     bandChanged = Signal(object)
     previewChanged = Signal(object)
     variables_of: Linkage | None = None   # the linkage the tables show
+    on_screen = False                     # the dock is in front (tabbed docks stay "visible" behind)
+    _stale = True
 
     def __init__(self, controller, parent: QWidget | None = None) -> None:
         super().__init__(parent)
@@ -79,7 +81,10 @@ class StudyPanel(LazyRefresh, QWidget):
         units.subscribe(self._units_changed)
 
     def _units_changed(self) -> None:
-        """Edit › Preferences changed the display units: the tables show theirs, typed values kept."""
+        """Edit › Preferences changed the display units: the tables show theirs, typed values kept
+        (nothing for a panel whose window was closed: its Python object may outlive its widgets)."""
+        if not (shiboken6.isValid(self) and shiboken6.isValid(self.variables.widget)):
+            return
         self.variables.redisplay()
         self.clearances.redisplay()
 
@@ -244,6 +249,19 @@ class StudyPanel(LazyRefresh, QWidget):
     @property
     def mode(self) -> str:
         return self.mode_box.currentData()
+
+    def set_on_screen(self, on: bool) -> None:
+        """The dock came to the front (or went behind another): it shows the scene from then on."""
+        self.on_screen = bool(on)
+        if self.on_screen and self._stale:
+            self.refresh()
+
+    def _invalidate(self, *args) -> None:
+        """A change or a new selection: shown at once when the dock is in front, else when it comes
+        there (a drag preview waits for its release)."""
+        self._stale = True
+        if self.on_screen and not (args and getattr(args[0], "preview", False)):
+            self.refresh()
 
     def refresh(self) -> None:
         """The linkages of the scene in the chooser (the selected one first chosen)."""

@@ -1,13 +1,14 @@
 """A seeded monkey (issues 13 and 20): random user events on the whole app — menu actions and
-examples, every canvas tool with clicks and drags near joints and anywhere, handle drags of
-Geneva drives and rolling levers, keys (tool shortcuts, digits, Ctrl+Z / Ctrl+Y, Esc, Space),
-numbers typed into the properties panel (extremes and garbage too), the selector, combo boxes,
-the scrub bar, play/pause and the animation's ticks, undo/redo — in bursts without the event
-loop running between them (a user faster than the app) — and no exception may escape into Qt's
-event loop.
+every example in turn, every canvas tool with clicks and drags near joints and anywhere, handle
+drags of Geneva drives and rolling levers, keys (tool shortcuts, digits, Ctrl+Z / Ctrl+Y, Esc,
+Space), the wheel over the canvas and over the properties' boxes, numbers typed into the
+properties panel (extremes and garbage too: 1e5 points is over a minute of synthesis, solved
+off the GUI thread), the selector, combo boxes, the scrub bar, play/pause and the animation's
+ticks, undo/redo — in bursts without the event loop running between them (a user faster than the
+app) — and no exception may escape into Qt's event loop.
 
-Used by tests/gui/test_monkey.py (a bounded run) and tests/gui/run_monkey.py (the big run:
-``python tests/gui/run_monkey.py --events 10000``). The seed is fixed, so a failure replays; the
+Used by tests/gui/test_monkey.py (a bounded run) and tools/gui_monkey.py (the big run:
+``python tools/gui_monkey.py --events 10000``). The seed is fixed, so a failure replays; the
 log keeps the events before it.
 """
 from __future__ import annotations
@@ -18,7 +19,8 @@ import sys
 import traceback
 
 from PySide6.QtCore import QEvent, QPoint, QPointF, Qt
-from PySide6.QtWidgets import QApplication
+from PySide6.QtGui import QWheelEvent
+from PySide6.QtWidgets import QApplication, QWidget
 
 #: fixed for CI; MECHSKETCH_MONKEY_SEED explores further by hand
 SEED = int(os.environ.get("MECHSKETCH_MONKEY_SEED", "20261124"))
@@ -137,6 +139,20 @@ class Monkey:
                 box.setCurrentIndex(i)
                 box.activated.emit(i)
 
+    def wheel(self) -> None:
+        """A wheel turn over the canvas (zoom) or over a widget of the properties dock (which must
+        not change unless it has focus)."""
+        rng = self.rng
+        targets = [self.vp] * 3 + [w for w in self.window.properties.findChildren(QWidget) if w.isVisible()]
+        target = rng.choice(targets)
+        pos = QPointF(rng.uniform(0, max(1, target.width() - 1)), rng.uniform(0, max(1, target.height() - 1)))
+        delta = rng.choice([-360, -120, -15, 15, 120, 360])
+        mods = rng.choice([Qt.KeyboardModifier.NoModifier] * 3 + [Qt.KeyboardModifier.ControlModifier])
+        self.log.append(f"wheel {type(target).__name__} {delta}")
+        event = QWheelEvent(pos, target.mapToGlobal(pos), QPoint(0, 0), QPoint(0, delta), Qt.MouseButton.NoButton,
+                            mods, Qt.ScrollPhase.NoScrollPhase, False)
+        QApplication.sendEvent(target, event)
+
     def play(self) -> None:
         player = self.window.player
         self.log.append("play/pause")
@@ -203,7 +219,7 @@ class Monkey:
         them (a user faster than the app), then what the running event loop does."""
         kinds = [self.action] * 3 + [self.tool] * 4 + [self.click] * 10 + [self.drag] * 8 + [self.key] * 4 + \
                 [self.type_number] * 5 + [self.select] * 3 + [self.combo] + [self.play] + [self.scrub] * 2 + \
-                [self.ctrl_key] * 2 + [self.handle_drag] * 3 + [self.place] * 3 + [self.tick] * 2
+                [self.ctrl_key] * 2 + [self.handle_drag] * 3 + [self.place] * 3 + [self.tick] * 2 + [self.wheel] * 3
         for _ in range(self.rng.choice([1, 1, 1, 4])):
             self.rng.choice(kinds)()
         QApplication.processEvents()
@@ -212,7 +228,8 @@ class Monkey:
         QApplication.sendPostedEvents(None, QEvent.Type.DeferredDelete)
 
 
-def run(parts, qtbot, events: int, seed: int = SEED, fresh: int = FRESH, on_event=None) -> tuple[Monkey, list[str]]:
+def run(parts, qtbot, events: int, seed: int = SEED, fresh: int = FRESH, on_event=None,
+        on_start=None) -> tuple[Monkey, list[str]]:
     """``events`` random events on the app ``parts`` (every ``fresh``-th opens an example so the
     scene does not grow without bound); returns the monkey (its log) and the errors that reached
     sys.excepthook, each with the events before it. ``on_event(k)`` is called after each."""
@@ -222,6 +239,8 @@ def run(parts, qtbot, events: int, seed: int = SEED, fresh: int = FRESH, on_even
     monkey = Monkey(parts, qtbot, random.Random(seed))
     monkey.steps = 0
     monkey.clock = FakeClock()
+    if on_start is not None:
+        on_start(monkey)
     parts.window.player.clock = monkey.clock
 
     def hook(kind, value, tb):
@@ -233,8 +252,8 @@ def run(parts, qtbot, events: int, seed: int = SEED, fresh: int = FRESH, on_even
     try:
         for k in range(events):
             monkey.steps = k + 1
-            if k % fresh == fresh - 1:
-                name = monkey.rng.choice(examples)
+            if k % fresh == fresh - 1:   # every example in turn, from one the seed picks
+                name = examples[(k // fresh + seed) % len(examples)]
                 monkey.log.append(f"action {name}")
                 parts.dialogs.save_changes.append("discard")
                 parts.window.actions[name].trigger()

@@ -1,5 +1,5 @@
 """The GUI monkey, bounded (issues 13 and 20): a fixed budget of seeded random user events on the
-whole app (see tests/gui/monkey.py) raises nothing. ``python tests/gui/run_monkey.py`` runs the
+whole app (see tests/gui/monkey.py) raises nothing. ``python tools/gui_monkey.py`` runs the
 big version (10,000 events and more) and counts tracebacks, hangs and crashes."""
 from __future__ import annotations
 

@@ -20,7 +20,7 @@ import pytest
 from PySide6.QtCore import QPoint, Qt
 from PySide6.QtWidgets import QApplication, QLineEdit
 
-from mechsketch.core import Workspace
+from mechsketch.core import ReplaceElement, Workspace
 from mechsketch.core.solver.dimensions import SetDimension, dimensions
 from mechsketch.gui import units
 from mechsketch.gui.panels.study_inputs import HIGH, LOW, P_DIA, P_FIT, P_PLAY, P_USE, TOL, USE
@@ -317,3 +317,36 @@ def test_an_edit_of_the_studied_linkage_takes_its_band_away(study, qtbot):
     assert out.spec["clearance"] == {"B": {"fit": "H7/g6", "diameter": pytest.approx(9.63)}}
     parts.controller.push(SetDimension("fourbar", "length:crank:A:B", 41.0, "set crank"))
     assert not layer.band.isVisible() and "changed since its tolerance study" in panel.status.text()
+
+
+def test_the_study_panel_redraws_only_when_its_dock_is_in_front(shell, qtbot):  # noqa: F811
+    """Tabbed behind the plots the Study panel costs nothing per edit; brought to the front it
+    shows the scene once; in front it follows edits, and a drag preview waits for its release."""
+    parts, ctl, canvas = open_example(shell, "fourbar_crank_rocker")
+    win, panel = parts.window, parts.window.design_docks.study
+    calls = []
+    original = panel.refresh
+    panel.refresh = lambda: (calls.append(1), original())[1]
+    win.docks["plots"].raise_()
+    QApplication.processEvents()
+    assert not getattr(panel, "on_screen", False)
+    lk = ctl.scene.element("fourbar")
+    moved = lk.with_joint_moved("C", (lk.joint("C").at[0] + 1.0, lk.joint("C").at[1]))
+    ctl.push(ReplaceElement(moved), "move C")
+    ctl.undo_stack.undo()
+    ctl.set_selection([("fourbar", "element", "fourbar")])
+    assert calls == []                                   # behind the plots: nothing redrawn
+    win.docks["study"].raise_()
+    qtbot.waitUntil(lambda: panel.on_screen, timeout=5000)
+    assert len(calls) == 1                               # in front: the scene as it is, once
+    ctl.undo_stack.redo()
+    assert len(calls) == 2                               # in front: follows each edit
+    ctl.begin_preview()
+    ctl.preview(ReplaceElement(lk.with_joint_moved("C", (lk.joint("C").at[0] + 2.0, lk.joint("C").at[1]))))
+    assert len(calls) == 2                               # a drag preview waits ...
+    ctl.end_preview(None)
+    assert len(calls) == 3                               # ... for its release
+    win.docks["plots"].raise_()
+    qtbot.waitUntil(lambda: not panel.on_screen, timeout=5000)
+    ctl.undo_stack.undo()
+    assert len(calls) == 3

@@ -1,8 +1,8 @@
 """The big GUI monkey run (issue 20, done-when): many thousand seeded random user events on the
-whole app, counting tracebacks, hangs and crashes. Not a test (tests/gui/test_monkey.py runs a
-bounded version in CI). From the repository root::
+whole app (the monkey: tests/gui/monkey.py), counting tracebacks, hangs and crashes. Not a test
+(tests/gui/test_monkey.py runs a bounded version in CI). From the repository root::
 
-    .venv/bin/python tests/gui/run_monkey.py --events 10000 [--seed N] [--runs K]
+    .venv/bin/python tools/gui_monkey.py --events 10000 [--seed N] [--runs K] [--hang S]
 
 Each run is a child process (offscreen Qt) so that a crash is counted, not suffered: its exit
 status says how it ended (a signal is a crash), a single event blocking for ``--hang`` seconds
@@ -22,7 +22,7 @@ import tempfile
 import time
 from pathlib import Path
 
-HERE = Path(__file__).resolve().parent
+HERE = Path(__file__).resolve().parents[1] / "tests" / "gui"   # the monkey and the app's test fakes
 HANG_EXIT = 3
 
 
@@ -42,7 +42,7 @@ class _Bot:
         QTest.keyClick(widget, key, modifier if modifier is not None else Qt.KeyboardModifier.NoModifier)
 
 
-def child(events: int, seed: int, hang: float) -> int:
+def child(events: int, seed: int, hang: float, trace: str = "") -> int:
     os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
     sys.path.insert(0, str(HERE))
     from app_fakes import FakeDialogs   # noqa: E402 - the test helpers, by path
@@ -56,16 +56,30 @@ def child(events: int, seed: int, hang: float) -> int:
     parts.window.show()
     started = time.perf_counter()
 
+    slowest = [0.0, 0]
+    last = [time.perf_counter()]
+
     def watchdog(k: int) -> None:   # re-armed after every event: one event may take `hang` s
         faulthandler.dump_traceback_later(hang, exit=True)
+        if trace:   # what a hang's stack does not say: the events before it and the scene's size
+            sizes = [(e.id, e.type, len(getattr(e, "joints", ())), getattr(e, "samples", getattr(e, "points", None)))
+                     for e in parts.controller.scene.elements]
+            Path(trace).write_text("\n".join(monkey_ref[0].log[-20:]) + f"\nscene: {sizes}\n", encoding="utf-8")
+        now = time.perf_counter()
+        if now - last[0] > slowest[0]:
+            slowest[:] = [now - last[0], k]
+        last[0] = now
 
     faulthandler.dump_traceback_later(hang, exit=True)
-    monkey, errors = run(parts, _Bot(), events, seed=seed, on_event=watchdog)
+    monkey_ref: list = []
+    monkey, errors = run(parts, _Bot(), events, seed=seed, on_event=watchdog, on_start=monkey_ref.append)
     faulthandler.cancel_dump_traceback_later()
     seconds = time.perf_counter() - started
     if errors:
         print(errors[0], file=sys.stderr)
-    print(json.dumps({"steps": monkey.steps, "events": len(monkey.log), "tracebacks": len(errors), "seconds": round(seconds, 1)}))
+    print(json.dumps({"steps": monkey.steps, "events": len(monkey.log), "tracebacks": len(errors),
+                      "seconds": round(seconds, 1), "slowest_step_s": round(slowest[0], 2),
+                      "slowest_step": slowest[1], "load": os.getloadavg()[0]}))
     parts.autosave.stop()
     sys.stdout.flush()
     os._exit(0)
@@ -76,15 +90,18 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--events", type=int, default=10000, help="events per run (default 10000)")
     ap.add_argument("--seed", type=int, default=1, help="seed of the first run (default 1)")
     ap.add_argument("--runs", type=int, default=1, help="runs, seeds seed, seed+1, ... (default 1)")
-    ap.add_argument("--hang", type=float, default=60.0, help="seconds one event may take (default 60)")
+    ap.add_argument("--hang", type=float, default=30.0,
+                    help="seconds one step (an event or a burst) may take before it counts as a hang (default 30)")
+    ap.add_argument("--trace", default="", help="file the child rewrites after each step with the last events "
+                    "and the scene's elements (read it after a hang)")
     ap.add_argument("--child", action="store_true", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.child:
-        return child(args.events, args.seed, args.hang)
+        return child(args.events, args.seed, args.hang, args.trace)
     totals = {"steps": 0, "events": 0, "tracebacks": 0, "hangs": 0, "crashes": 0}
     for seed in range(args.seed, args.seed + args.runs):
         cmd = [sys.executable, __file__, "--child", "--events", str(args.events), "--seed", str(seed),
-               "--hang", str(args.hang)]
+               "--hang", str(args.hang), "--trace", args.trace]
         out = subprocess.run(cmd, capture_output=True, text=True, env=dict(os.environ, QT_QPA_PLATFORM="offscreen"))
         last = out.stdout.strip().splitlines()[-1] if out.stdout.strip() else ""
         got = json.loads(last) if last.startswith("{") else {}
