@@ -316,6 +316,10 @@ def _finer(main, argv: list[str], table: Path, el: dict) -> list[str]:
         fine.unlink(missing_ok=True)
 
 
+def _list(value: Any) -> list:
+    return value if isinstance(value, list) else []
+
+
 def one_input(main, name: str, doc: dict, rng: np.random.Generator, folder: Path,
               keep: str | None = None) -> tuple[str, list[dict]]:
     kind, doc = mutate(doc, rng)
@@ -328,7 +332,7 @@ def one_input(main, name: str, doc: dict, rng: np.random.Generator, folder: Path
     el = doc["elements"][0] if isinstance(doc.get("elements"), list) and doc["elements"] else {}
     typ = el.get("type") if isinstance(el, dict) else None
     cmds = [["validate", str(scene)], ["analyze", str(scene), "--csv", str(folder / "a.csv"), "--summary"]]
-    if typ == "linkage" and (el.get("loads") or any(isinstance(lk, dict) and "mass" in lk for lk in el.get("links", []))):
+    if typ == "linkage" and (el.get("loads") or any(isinstance(lk, dict) and "mass" in lk for lk in _list(el.get("links")))):
         cmds.append(["analyze", str(scene), "--forces", "--csv", str(folder / "f.csv"), "--summary"])
     if typ == "rolling_lever":
         cmds.append(["synthesize", str(scene), "--csv", str(folder / "s.csv"), "--summary"])
