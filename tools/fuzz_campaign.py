@@ -42,7 +42,11 @@ import time
 from pathlib import Path
 from typing import Any
 
-import numpy as np
+if "--worker" in sys.argv:   # one BLAS thread, as the CLI sets it, before numpy loads
+    for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+        os.environ.setdefault(_var, "1")
+
+import numpy as np  # noqa: E402
 
 EXAMPLES_DIR = Path(__file__).resolve().parents[1] / "resources" / "examples"
 CASES_DIR = Path(__file__).resolve().parents[2] / "shared" / "cases" / "s3"
