@@ -162,6 +162,20 @@ def keep_reference_states(old: StepPlan, new: StepPlan, links: set[str]) -> None
         setattr(local, REF_STATES, kept)
 
 
+#: a margin whose spread over the turn is below this fraction of the group's size is constant
+FLAT_REL = 1e-12
+
+
+def _flat_and_clear(gap: np.ndarray, ok: np.ndarray, size: float, thr: float) -> bool:
+    """True when the sampled margin (REF_SAMPLES,) is assembled everywhere, the same at every
+    sample up to rounding (a dyad forming a rigid triangle with the link it hangs on) and far
+    from zero: no golden-section search there could end within ``thr`` of a branch point."""
+    if not ok.all():
+        return False
+    lo, hi = float(gap.min()), float(gap.max())
+    return hi - lo <= FLAT_REL * size and lo > 4.0 * thr + (hi - lo)
+
+
 def _search_group(lp: StepPlan, k: int, out, delta: np.ndarray, step_h: float,
                   known: dict[str, np.ndarray], nbr: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
     """The sorted branch offsets of step ``k`` of the local plan ``lp`` from its output ``out``
@@ -188,6 +202,8 @@ def _search_group(lp: StepPlan, k: int, out, delta: np.ndarray, step_h: float,
     at_drawn = out.gap[0] if np.isfinite(out.gap[0]) else math.inf   # delta[0] == 0: the drawn pose
     if cand.size == 0 and abs(at_drawn) > 4.0 * thr:   # (the margin below is the same to an ulp)
         return np.empty(0)
+    if _flat_and_clear(gap, ok, step.scale + step.coord, thr):
+        return np.empty(0)   # its rounding noise is not ~1,000 minima to refine: none is a branch point
     idx = lp.closure(k)
     found: list[float] = []
     for c in cand:
