@@ -41,7 +41,7 @@ from . import design_runs as D
 from .design_candidates import CandidateList
 from .design_reqs import GearsForm, GenevaForm, ReportView, RollingForm
 from .design_targets import TargetTable
-from .jobs import JobRunner
+from .jobs import JobRunner, JobStatus
 from .study_inputs import EntryError
 
 
@@ -54,7 +54,7 @@ def _button(text: str, name: str, tip: str, slot) -> QPushButton:
 
 
 @qt_safe
-class DesignPanel(QWidget):
+class DesignPanel(JobStatus, QWidget):
     """The Design dock's widget (see the module docstring). ``ask_csv()`` returns the path of a CSV
     file the user picked (or None)."""
 
@@ -339,23 +339,6 @@ class DesignPanel(QWidget):
         self._show_nothing()
         self.result_mode = mode
         return self.runner.start(title, work)
-
-    def _say(self, text: str, error: bool = False) -> bool:
-        self.status.setText(text)
-        self.status.setStyleSheet("color: #b00020;" if error else "")
-        self.controller.message.emit(text)
-        return False
-
-    def _busy(self, busy: bool) -> None:
-        self.run_button.setEnabled(not busy)
-        self.cancel_button.setEnabled(busy)
-        if busy:
-            self.bar.setValue(0)
-
-    def _progress(self, fraction: float, text: str) -> None:
-        self.bar.setValue(int(round(1000 * fraction)))
-        self.status.setStyleSheet("")
-        self.status.setText(f"{self.runner.title}: {text}")
 
     def _failed(self, exc) -> None:
         self.bar.setValue(0)

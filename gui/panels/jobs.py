@@ -180,3 +180,31 @@ class JobRunner(QObject):
 
 
 __all__ = ["CANCELLED", "JobRunner", "Ticket"]
+
+
+class JobStatus:
+    """The status line, progress bar and Run/Cancel buttons of a dock that runs a :class:`JobRunner`
+    (the Study and Design docks). The dock provides ``status`` (QLabel), ``bar`` (QProgressBar on
+    0..1000), ``run_button``, ``cancel_button``, ``runner`` and ``controller``; it may override
+    :meth:`_can_run` (whether Run is offered when nothing runs)."""
+
+    def _can_run(self) -> bool:
+        return True
+
+    def _say(self, text: str, error: bool = False) -> bool:
+        """Show ``text`` in the dock and the status bar (red when ``error``); False, for returns."""
+        self.status.setText(text)
+        self.status.setStyleSheet("color: #b00020;" if error else "")
+        self.controller.message.emit(text)
+        return False
+
+    def _busy(self, busy: bool) -> None:
+        self.run_button.setEnabled(not busy and self._can_run())
+        self.cancel_button.setEnabled(busy)
+        if busy:
+            self.bar.setValue(0)
+
+    def _progress(self, fraction: float, text: str) -> None:
+        self.bar.setValue(int(round(1000 * fraction)))
+        self.status.setStyleSheet("")
+        self.status.setText(f"{self.runner.title}: {text}")

@@ -33,7 +33,7 @@ from .. import units
 from ..qtsafe import qt_safe
 from ..selection import ELEMENT
 from . import study_runs as R
-from .jobs import JobRunner
+from .jobs import JobRunner, JobStatus
 from .study_inputs import ClearanceTable, EntryError, VariableTable
 
 MODES = (("tolerance", "Tolerance (Monte Carlo)"), ("optimize", "Optimise (Pareto front)"))
@@ -51,7 +51,7 @@ def _spin(lo: int, hi: int, value: int, step: int = 1, name: str = "") -> QSpinB
 
 
 @qt_safe
-class StudyPanel(QWidget):
+class StudyPanel(JobStatus, QWidget):
     """The Study dock's widget (see the module docstring)."""
 
     bandChanged = Signal(object)
@@ -357,22 +357,8 @@ class StudyPanel(QWidget):
                             self.generations.value())
         return f"optimisation of {lk.id}", lambda t: R.optimise_work(lk, data, t)
 
-    def _say(self, text: str, error: bool = False) -> bool:
-        self.status.setText(text)
-        self.status.setStyleSheet("color: #b00020;" if error else "")
-        self.controller.message.emit(text)
-        return False
-
-    def _busy(self, busy: bool) -> None:
-        self.run_button.setEnabled(not busy and self.linkage() is not None)
-        self.cancel_button.setEnabled(busy)
-        if busy:
-            self.bar.setValue(0)
-
-    def _progress(self, fraction: float, text: str) -> None:
-        self.bar.setValue(int(round(1000 * fraction)))
-        self.status.setStyleSheet("")
-        self.status.setText(f"{self.runner.title}: {text}")
+    def _can_run(self) -> bool:
+        return self.linkage() is not None
 
     def _failed(self, exc) -> None:
         self.bar.setValue(0)
