@@ -32,7 +32,8 @@ ARC_CHOICES = (("bulge", "Bulge polylines: AutoCAD, LibreCAD, QCAD, FreeCAD, GDA
                ("entities", "LINE and ARC: older CAM (dxf2gcode, some plasma and laser software)"))
 #: element type -> the plate fields that apply
 PLATE_FIELDS = {"linkage": ("boss_radius", "bore_diameter", "link_width", "frame", "bore_key", "fasteners", "base_plate"),
-                "rolling_lever": ("depth", "fasteners", "base_plate"), "geneva": ("bore_key",)}
+                "rolling_lever": ("depth", "fasteners", "base_plate"), "geneva": ("bore_key",),
+                "gear_pair": ("bore_key",), "geared_geneva": ("bore_key",)}
 #: the bore key choices: (PartOptions.bore_key, shown)
 KEY_CHOICES = ((None, "none"), ("keyway", "keyway (DIN 6885-1)"), ("flat", "flat (D-bore)"))
 FITTED = ("linkage", "rolling_lever")

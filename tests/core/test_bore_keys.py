@@ -8,6 +8,8 @@ import math
 
 import numpy as np
 import pytest
+
+from mechsketch.core.errors import GeometryError
 import shapely
 
 from mechsketch import resources
@@ -47,15 +49,24 @@ def test_din_6885_sizes_and_their_limits():
         key_size(5.0)
 
 
-@pytest.mark.parametrize("name", ["fourbar_crank_rocker", "geneva_z6", "slider_crank_offset"])
+KEYED = {"geneva": {"crank_arm", "locking_disc", "wheel"}, "gear_pair": {"input_gear", "output_gear"},
+         "geared_geneva": {"crank_arm", "locking_disc", "wheel", "input_gear", "output_gear"}}
+
+
+@pytest.mark.parametrize("name", ["fourbar_crank_rocker", "geneva_z6", "slider_crank_offset", "gears_elliptic",
+                                  "smooth_geneva_z5"])
 @pytest.mark.parametrize("key", ["keyway", "flat"])
 def test_keyed_examples_read_back_with_what_the_key_removes(tmp_path, name, key):
     el = load_scene(resources.example_path(name)).elements[0]
     plain = {p.name: p for p in element_parts(el, PartOptions()).parts}
     ps = element_parts(el, PartOptions(bore_key=key))
     keyed = [p for p in ps.parts if any(h.kinds and h.kinds[0] in ("keyway", "flat") for h in p.holes)]
-    assert {p.name for p in keyed} == ({"crank_arm", "locking_disc", "wheel"} if el.type == "geneva" else
-                                       {el.driver.link})
+    assert {p.name for p in keyed} == KEYED.get(el.type, {el.driver.link} if el.type == "linkage" else set())
+    if (name, key) == ("smooth_geneva_z5", "keyway"):   # its wheel's hub is too thin for a keyway
+        with pytest.raises(GeometryError, match="part 'wheel'.*bore_key"):
+            export_parts(ps, tmp_path / "refused.dxf")
+        assert not (tmp_path / "refused.dxf").exists()
+        return
     for arcs in ("bulge", "entities"):
         path = tmp_path / f"{name}_{key}_{arcs}.dxf"
         export_parts(ps, path, arcs=arcs, kerf=0.0)

@@ -42,7 +42,7 @@ class PartOptions:
     ``bore_diameter``, ``link_width``, ``frame`` ("plate" | "drill"); rolling levers: ``depth``, ``fasteners`` (the diameter of
     the frame and slider plates' fastener holes, matched where they mount) and ``base_plate``
     (a plate carrying every pivot and the frame plate's fasteners instead of a drilling pattern).
-    ``bore_key`` ("keyway" | "flat"): key the shaft bores (Geneva drives, a linkage's driver;
+    ``bore_key`` ("keyway" | "flat"): key the shaft bores (Geneva drives, gear blanks, a linkage's driver;
     :mod:`.bore_keys`).
     ``vocabulary``: how the front end asking names these options in messages (:mod:`.keys`).
     """
@@ -112,6 +112,10 @@ def element_parts(element, options: PartOptions = PartOptions(), plan: Plan | No
 
 def _shafts(element, ps: PartSet) -> dict[str, list[tuple[tuple[float, float], float]]]:
     """Per part, its shaft bores' centres (mm) and the direction (rad) its key points."""
+    if isinstance(element, GearPair):
+        return _blank_shafts(ps, ("input_gear", "output_gear"))
+    if isinstance(element, GearedGeneva):
+        return {**_shafts(element.geneva, ps), **_blank_shafts(ps, ("input_gear", "output_gear"))}
     if isinstance(element, Geneva):
         bores = {p.name: [is_circle(h)[0] for h in p.holes if h.kinds and h.kinds[0] == "bore"] for p in ps.parts}
         crank = bores.get("crank_arm") or bores.get("locking_disc")
@@ -127,6 +131,19 @@ def _shafts(element, ps: PartSet) -> dict[str, list[tuple[tuple[float, float], f
     others = [element.joint(j).at for j in element.link(element.driver.link).joints if j != element.driver.pivot]
     away = math.atan2(*(np.asarray(pivot) - np.mean(others, axis=0))[::-1]) if others else 0.0
     return {element.driver.link: [(tuple(pivot), away)]}
+
+
+def _blank_shafts(ps: PartSet, names: tuple[str, ...]) -> dict[str, list[tuple[tuple[float, float], float]]]:
+    """A gear blank's bore, keyed towards the farthest point of its outline (where the blank has
+    most material: the long radius of a non-circular pitch curve)."""
+    out = {}
+    for p in ps.parts:
+        bores = [is_circle(h)[0] for h in p.holes if h.kinds and h.kinds[0] == "bore"]
+        if p.name in names and bores and p.outer is not None:
+            c = np.asarray(bores[0], float)
+            far = p.outer.points[int(np.argmax(np.hypot(*(p.outer.points - c).T)))]
+            out[p.name] = [(bores[0], math.atan2(far[1] - c[1], far[0] - c[0]))]
+    return out
 
 
 def _unkeyed_parts(element, options: PartOptions, plan: Plan | None) -> PartSet:
@@ -173,7 +190,7 @@ def applicable_options(element) -> frozenset[str]:
             ({"tolerance"} if traced else set())
     if isinstance(element, RollingLever):
         return COMMON_OPTIONS | {"depth", "tolerance", "fasteners", "base_plate"}
-    if isinstance(element, Geneva):
+    if isinstance(element, (Geneva, GearPair, GearedGeneva)):
         return COMMON_OPTIONS | {"bore_key"}
     return COMMON_OPTIONS
 
