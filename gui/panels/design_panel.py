@@ -349,10 +349,6 @@ class DesignPanel(JobStatus, QWidget):
         else:
             self._say(f"{self.runner.title} refused: {exc}", error=True)
 
-    def _cancelled(self, text: str) -> None:
-        self.bar.setValue(0)
-        self._say(text)
-
     def _finished(self, result) -> None:
         self.bar.setValue(1000)
         self.result = result

@@ -208,3 +208,7 @@ class JobStatus:
         self.bar.setValue(int(round(1000 * fraction)))
         self.status.setStyleSheet("")
         self.status.setText(f"{self.runner.title}: {text}")
+
+    def _cancelled(self, text: str) -> None:
+        self.bar.setValue(0)
+        self._say(text)

@@ -364,10 +364,6 @@ class StudyPanel(JobStatus, QWidget):
         self.bar.setValue(0)
         self._say(f"{self.runner.title or 'the study'} failed: {exc}", error=True)
 
-    def _cancelled(self, text: str) -> None:
-        self.bar.setValue(0)
-        self._say(text)
-
     def _finished(self, outcome) -> None:
         self.bar.setValue(1000)
         self.outcome = outcome
