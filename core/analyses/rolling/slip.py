@@ -375,16 +375,12 @@ def continuous_measures(path: ExactPath, start: float, end: float) -> Continuous
     return continuous_slip(path, start, end)[0]
 
 
-def continuous_slip(path: ExactPath, start: float, end: float,
-                    grid: np.ndarray | None = None) -> tuple[ContinuousMeasures, SlipSamples | None]:
-    """:func:`continuous_measures`, and with ``grid`` (M,) rad (inside the stroke, in stroke order)
-    the slip of pairs D and E accumulated from ``start`` to each grid point (:class:`SlipSamples`,
-    source "continuous"). The grid points are added to the integration knots, so the slip at the
-    last grid point equal to ``end`` is the measures' ``slip_d``/``slip_e`` to the last bit."""
-    geom = path.geom
-    lo, hi = min(start, end), max(start, end)
+def _quadrature(path: ExactPath, lo: float, hi: float, extra: np.ndarray):
+    """Knots (mesh nodes and grid points inside [lo, hi]), Gauss–Legendre points q (rad) and
+    weights w, the dense output's base index of each q, and the central-difference step per q
+    (rad; the ±2-step stencil stays inside the stroke: beyond its ends the working range may be
+    over)."""
     th = path.theta
-    extra = np.zeros(0) if grid is None else np.asarray(grid, dtype=float)
     inside = extra[(extra > lo) & (extra < hi)]
     knots = np.unique(np.concatenate([[lo, hi], th[(th > lo) & (th < hi)], inside]))
     mid, half = 0.5 * (knots[1:] + knots[:-1]), 0.5 * np.diff(knots)
@@ -392,8 +388,30 @@ def continuous_slip(path: ExactPath, start: float, end: float,
     w = (half[:, None] * _GL_W[None, :]).ravel()
     base = path.base_index(q)
     eta = np.minimum(1e-4, 0.5 * np.repeat(half, len(_GL_X)))  # FD step per point (rad)
-    # the stencil (±2 steps) stays inside the stroke: beyond its ends the working range may be over
     eta = np.minimum(eta, 0.45 * np.minimum(q - lo, hi - q))
+    return knots, q, w, base, eta
+
+
+@dataclass
+class _Rates:
+    """The computed motion at the quadrature points and its θ-derivatives (fourth-order central
+    differences): lever angle a, slider s5, pose state st, and d/dθ of a, s5, P, Q (the slider
+    point), u1, u2 and (with a slider law) the lever-frame point Π30 times η."""
+
+    a: np.ndarray
+    st: object
+    da: np.ndarray
+    ds5: np.ndarray
+    dP: np.ndarray
+    dQ: np.ndarray
+    du1: np.ndarray
+    du2: np.ndarray
+    dL: np.ndarray
+
+
+def _rates(path: ExactPath, q: np.ndarray, base: np.ndarray, eta: np.ndarray, law: bool) -> _Rates:
+    """:class:`_Rates` at the points q (M,) rad with steps eta (M,) rad."""
+    geom = path.geom
     offs = (-2.0, -1.0, 1.0, 2.0)
     coef = (1.0 / 12.0, -8.0 / 12.0, 8.0 / 12.0, -1.0 / 12.0)
 
@@ -411,7 +429,6 @@ def continuous_slip(path: ExactPath, start: float, end: float,
     du2 = np.zeros_like(q)
     ds = np.asarray(geom.ds)
     Qc = st_c.P0 - s_c[:, None] * ds
-    law = geom.law is not None
     dL = np.zeros((len(q), 2))       # the lever element Π30 (slider law): its lever-frame points
     Lc = _lever_points(geom, q, st_c.F, st_c.P0) if law else None
     for o, c in zip(offs, coef):
@@ -426,40 +443,65 @@ def continuous_slip(path: ExactPath, start: float, end: float,
             dL += c * (_lever_points(geom, q + o * eta, st.F, st.P0) - Lc)
     da, ds5, du1, du2 = (x / eta for x in (da, ds5, du1, du2))
     dP, dQ = dP / eta[:, None], dQ / eta[:, None]
+    return _Rates(a_c, st_c, da, ds5, dP, dQ, du1, du2, dL)
+
+
+def _add_node_jumps(path: ExactPath, lo: float, hi: float, knots: np.ndarray, law: bool,
+                    step_d: np.ndarray, step_e: np.ndarray, out: list) -> None:
+    """Add the jumps of the computed motion at inner mesh nodes (dense value from the left against
+    the node) to the slip per knot interval (step_d, step_e, mm) and to the lengths out[2:] (mm)."""
+    geom, th = path.geom, path.theta
+    ds = np.asarray(geom.ds)
+    inner = np.flatnonzero((th > lo) & (th < hi))
+    inner = inner[inner > 0]
+    if not len(inner):
+        return
+    a_l, s_l = path.at(th[inner], base=inner - 1)
+    left = pose_state(geom, a_l, th[inner])
+    node = pose_state(geom, path.alpha[inner], th[inner])
+    dF = node.F - left.F
+    at_knot = np.searchsorted(knots, th[inner]) - 1   # the interval ending at the node
+    np.add.at(step_d, at_knot, np.linalg.norm(dF, axis=1))
+    np.add.at(step_e, at_knot, np.linalg.norm(dF - (path.S5[inner] - s_l)[:, None] * ds, axis=1))
+    out[2] += float(np.sum(np.linalg.norm(node.P - left.P, axis=1)))
+    out[3] += float(geom.R1 * np.sum(np.abs(_wrap(node.u1 - left.u1))))
+    qn = node.P0 - path.S5[inner][:, None] * ds
+    ql = left.P0 - s_l[:, None] * ds
+    out[4] += float(np.sum(np.linalg.norm(qn - ql, axis=1)))
+    if law:
+        jump = _lever_points(geom, th[inner], node.F, node.P0) - _lever_points(geom, th[inner], left.F, left.P0)
+        out[5] += float(np.sum(np.linalg.norm(jump, axis=1)))
+    else:
+        out[5] += float(geom.R2 * np.sum(np.abs(_wrap(node.u2 - left.u2))))
+
+
+def continuous_slip(path: ExactPath, start: float, end: float,
+                    grid: np.ndarray | None = None) -> tuple[ContinuousMeasures, SlipSamples | None]:
+    """:func:`continuous_measures`, and with ``grid`` (M,) rad (inside the stroke, in stroke order)
+    the slip of pairs D and E accumulated from ``start`` to each grid point (:class:`SlipSamples`,
+    source "continuous"). The grid points are added to the integration knots, so the slip at the
+    last grid point equal to ``end`` is the measures' ``slip_d``/``slip_e`` to the last bit."""
+    geom = path.geom
+    lo, hi = min(start, end), max(start, end)
+    extra = np.zeros(0) if grid is None else np.asarray(grid, dtype=float)
+    knots, q, w, base, eta = _quadrature(path, lo, hi, extra)
+    law = geom.law is not None
+    r8 = _rates(path, q, base, eta, law)
+    st_c, a_c, da = r8.st, r8.a, r8.da
     slip_d = geom.ell * np.abs(da - st_c.rate)
     e = np.stack([np.cos(a_c), np.sin(a_c)], axis=-1)
     ep = np.stack([-e[:, 1], e[:, 0]], axis=-1)
     r = st_c.P0 - st_c.F
     v_lever = geom.ell * da[:, None] * ep + np.stack([-r[:, 1], r[:, 0]], axis=-1)
-    slip_e = np.linalg.norm(v_lever - ds5[:, None] * ds, axis=1)
+    slip_e = np.linalg.norm(v_lever - r8.ds5[:, None] * np.asarray(geom.ds), axis=1)
     # slip per knot interval (ascending θ), then the jumps at inner mesh nodes added at those knots
     n_int = len(knots) - 1
     step_d = (w * slip_d).reshape(n_int, -1).sum(axis=1)
     step_e = (w * slip_e).reshape(n_int, -1).sum(axis=1)
-    out = [0.0, 0.0, float(w @ np.linalg.norm(dP, axis=1)),
-           float(geom.R1 * (w @ np.abs(du1))), float(w @ np.linalg.norm(dQ, axis=1)),
-           float(w @ np.linalg.norm(dL / eta[:, None], axis=1)) if law else float(geom.R2 * (w @ np.abs(du2)))]
-    # jumps of the computed motion at inner mesh nodes (dense value from the left against the node)
-    inner = np.flatnonzero((th > lo) & (th < hi))
-    inner = inner[inner > 0]
-    if len(inner):
-        a_l, s_l = path.at(th[inner], base=inner - 1)
-        left = pose_state(geom, a_l, th[inner])
-        node = pose_state(geom, path.alpha[inner], th[inner])
-        dF = node.F - left.F
-        at_knot = np.searchsorted(knots, th[inner]) - 1   # the interval ending at the node
-        np.add.at(step_d, at_knot, np.linalg.norm(dF, axis=1))
-        np.add.at(step_e, at_knot, np.linalg.norm(dF - (path.S5[inner] - s_l)[:, None] * ds, axis=1))
-        out[2] += float(np.sum(np.linalg.norm(node.P - left.P, axis=1)))
-        out[3] += float(geom.R1 * np.sum(np.abs(_wrap(node.u1 - left.u1))))
-        qn = node.P0 - path.S5[inner][:, None] * ds
-        ql = left.P0 - s_l[:, None] * ds
-        out[4] += float(np.sum(np.linalg.norm(qn - ql, axis=1)))
-        if law:
-            jump = _lever_points(geom, th[inner], node.F, node.P0) - _lever_points(geom, th[inner], left.F, left.P0)
-            out[5] += float(np.sum(np.linalg.norm(jump, axis=1)))
-        else:
-            out[5] += float(geom.R2 * np.sum(np.abs(_wrap(node.u2 - left.u2))))
+    out = [0.0, 0.0, float(w @ np.linalg.norm(r8.dP, axis=1)),
+           float(geom.R1 * (w @ np.abs(r8.du1))), float(w @ np.linalg.norm(r8.dQ, axis=1)),
+           float(w @ np.linalg.norm(r8.dL / eta[:, None], axis=1)) if law else float(geom.R2 * (w @ np.abs(r8.du2)))]
+    _add_node_jumps(path, lo, hi, knots, law, step_d, step_e, out)
     cum_d, cum_e = running_sum(step_d), running_sum(step_e)
     out[0], out[1] = float(cum_d[-1]), float(cum_e[-1])
     if not all(math.isfinite(x) for x in out):
