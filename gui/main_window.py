@@ -27,6 +27,7 @@ from .autosave import Autosave
 from .busy import BusyIndicator
 from .controller import SceneController
 from .dialogs import DialogService
+from .status_label import StatusLabel
 from .selection import ELEMENT
 from .file_ops import FileOps
 from .clipboard import ClipboardCommands
@@ -116,7 +117,7 @@ class MainWindow(QMainWindow):
         self.resize(1440, 900)
 
         # -- components ---------------------------------------------------------------------
-        self.cursor_label = QLabel()
+        self.cursor_label = StatusLabel()   # fixed size while it changes: no status-bar layout per move
         self.parts = components(controller, self)
         self.canvas, self.player, self.scrubbar = self.parts.view, self.parts.player, self.parts.scrubbar
         central = QWidget()
@@ -141,8 +142,8 @@ class MainWindow(QMainWindow):
         self._make_actions()
         self._make_menus()
         self._make_toolbar()
-        self.frame_label = QLabel()
-        self.solve_label = QLabel()
+        self.frame_label = StatusLabel()
+        self.solve_label = StatusLabel()
         self._exporter = None
         self.statusBar().addPermanentWidget(self.cursor_label)
         self.statusBar().addPermanentWidget(self.solve_label)

@@ -41,6 +41,7 @@ class ScrubTrack(QWidget):
         self.controller = controller
         self.player = player
         self._dragging = False
+        self._drawn: tuple | None = None   # (N, valid mask bytes, dead points) last drawn
         self.setMinimumHeight(30)
         self.setMinimumWidth(80)
         self.setMouseTracking(True)
@@ -49,7 +50,13 @@ class ScrubTrack(QWidget):
         controller.frameChanged.connect(self.update)
 
     def _on_changed(self, _change) -> None:
-        self.update()
+        """Repaint when what the track draws changed (a drag moves the linkage on every mouse
+        move, the track's samples, ranges and dead points mostly stay as they were)."""
+        n, valid, dead = self._data()
+        drawn = (n, None if valid is None else valid.tobytes(), tuple(dead))
+        if drawn != self._drawn:
+            self._drawn = drawn
+            self.update()
 
     def sizeHint(self) -> QSize:
         return QSize(400, 30)
@@ -88,6 +95,7 @@ class ScrubTrack(QWidget):
         p = QPainter(self)
         p.setRenderHint(QPainter.RenderHint.Antialiasing, True)
         n, valid, dead = self._data()
+        self._drawn = (n, None if valid is None else valid.tobytes(), tuple(dead))
         h = self.height()
         groove = QRectF(MARGIN, h / 2 - 4, self.width() - 2 * MARGIN, 8)
         p.setPen(QPen(GROOVE_EDGE, 1))
@@ -207,6 +215,9 @@ class ScrubBar(QWidget):
 
     def _readout(self, *_args) -> None:
         text, ok = self.controller.frame_text()
-        self.readout.setText(text)
-        self.readout.setStyleSheet("" if ok else "color: #d62728")
-        self.readout.setToolTip("" if ok else "the mechanism cannot be assembled at this input")
+        if text != self.readout.text():   # a QLabel's setText and setStyleSheet lay the bar out again
+            self.readout.setText(text)
+        style = "" if ok else "color: #d62728"
+        if style != self.readout.styleSheet():
+            self.readout.setStyleSheet(style)
+            self.readout.setToolTip("" if ok else "the mechanism cannot be assembled at this input")

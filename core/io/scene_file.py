@@ -21,6 +21,7 @@ from ..model.kinds import element_kind
 from ..model.scene import FORMAT, SCHEMA_VERSION, Scene
 from .atomic import atomic_write_text  # noqa: F401  (re-exported: others import it from here)
 from .schema_check import Check, Unsupported, compile_schema
+from .schema_delta import changed_subtrees
 
 #: files larger than this are refused before reading (bytes)
 MAX_FILE_BYTES = 10 * 1024 * 1024
@@ -256,8 +257,56 @@ def element_problems(element: Any) -> list[Problem]:
         data = dump_element(element)
     except (OverflowError, ValueError, TypeError, AttributeError) as exc:
         return [Problem("$", f"cannot be written to a scene file: {exc}", getattr(element, "id", None))]
+    return _data_problems(data)
+
+
+def _data_problems(data: Any) -> list[Problem]:
+    """Every problem of an element's JSON object read as a scene's only element."""
     doc = {"format": FORMAT, "schema_version": SCHEMA_VERSION, "units": "mm", "elements": [data]}
-    return scene_from_dict(doc, f"element {getattr(element, 'id', '?')}")[1]
+    return scene_from_dict(doc, f"element {data.get('id', '?') if isinstance(data, dict) else '?'}")[1]
+
+
+def element_problems_since(element: Any, known: dict[str, Any] | None) -> tuple[list[Problem], dict[str, Any] | None]:
+    """:func:`element_problems` of ``element`` knowing ``known``, the JSON object of a valid
+    element (the same element before an edit; None: not known), and the element's own object
+    (None when it cannot be written). The same answer and messages, faster for an edit: when
+    the objects keep their type, id and structure, only the subtrees that changed are checked
+    against the schema and for finite numbers (:mod:`.schema_delta`); the parser, which checks
+    the meaning (ids, geometry), reads the whole element as always. Anything else, and any
+    subtree found wrong, goes the whole way (:func:`element_problems`)."""
+    try:
+        data = dump_element(element)
+    except (OverflowError, ValueError, TypeError, AttributeError):
+        return element_problems(element), None
+    return _data_problems_since(data, known), data
+
+
+def _data_problems_since(data: dict[str, Any], known: dict[str, Any] | None) -> list[Problem]:
+    """:func:`_data_problems` of ``data`` knowing the valid object ``known`` (see
+    :func:`element_problems_since`)."""
+    kind = element_kind(data.get("type")) if isinstance(data.get("type"), str) else None
+    fast = _fast_check(kind.schema) if kind is not None and isinstance(kind.schema, str) else None
+    if (known is None or fast is None or known.get("type") != data["type"]
+            or known.get("id") != data.get("id") or not isinstance(data.get("id"), str)):
+        return _data_problems(data)
+    path = "$.elements[0]"
+    found: list[Problem] = []
+    for sub, node, where in changed_subtrees(_flat_schema(kind.schema), known, data, path):
+        _nonfinite(node, where, found)   # any problem: the whole way words it
+        if found or not _compiled(sub)(node):
+            return _data_problems(data)
+    return kind.parse(data, path)[1]
+
+
+_COMPILED: dict[int, tuple[Any, Check]] = {}
+
+
+def _compiled(schema: Any) -> Check:
+    """The fast check of a subschema of a shipped (cached) schema, compiled once."""
+    hit = _COMPILED.get(id(schema))
+    if hit is None or hit[0] is not schema:
+        hit = _COMPILED[id(schema)] = (schema, compile_schema(schema))
+    return hit[1]
 
 
 def _kind(mode: int) -> str:

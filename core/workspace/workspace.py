@@ -27,7 +27,7 @@ from typing import TYPE_CHECKING, Any, Callable, Hashable, Iterable
 from pathlib import Path
 
 from ..errors import EditError, MechsketchError, RequestError, UnknownIdError
-from ..io.scene_file import element_problems, load_scene
+from ..io.scene_file import dump_element, element_problems_since, load_scene
 from ..model.edits import Edit
 from ..model.linkage import Linkage
 from ..model.scene import Scene
@@ -119,7 +119,7 @@ class Workspace:
         self._requests: OrderedDict[Hashable, Solution] = OrderedDict()
         self._forces: OrderedDict[Hashable, ForceResult] = OrderedDict()
         self._plans: OrderedDict[Linkage, Plan] = OrderedDict()
-        self._valid: OrderedDict[Any, bool] = OrderedDict()   # records the scene reader accepts
+        self._valid: OrderedDict[Any, Any] = OrderedDict()   # records the scene reader accepts: their JSON object, or True
         self._remember(self._scene)
         self._structures: OrderedDict[tuple, list] = OrderedDict()   # topology -> Assur groups
         self._preview_base: Scene | None = None
@@ -197,7 +197,7 @@ class Workspace:
                     continue
             except TypeError:   # an unhashable record (not one of ours): check it every time
                 pass
-            problems = element_problems(el)
+            problems, data = element_problems_since(el, self._valid_data(old.get(el.id)))
             if problems:
                 def text(p) -> str:
                     tail = p.path.removeprefix("$.elements[0]").lstrip(".") or "element"
@@ -206,9 +206,22 @@ class Workspace:
                 raise EditError(f"{getattr(el, 'type', 'element')} {el.id!r}: "
                                 + "; ".join(text(p) for p in problems))
             try:
-                self._store(self._valid, el, True)
+                self._store(self._valid, el, data if data is not None else True)
             except TypeError:
                 pass
+
+    def _valid_data(self, el: Any) -> dict | None:
+        """The JSON object of ``el`` if it is a record known valid (kept with it), else None."""
+        try:
+            data = self._valid.get(el) if el is not None else None
+        except TypeError:
+            return None
+        if data is True:
+            try:
+                data = self._valid[el] = dump_element(el)
+            except (OverflowError, ValueError, TypeError, AttributeError):
+                return None
+        return data
 
     def reset(self, scene: Scene) -> None:
         """Replace the whole document (New, Open): not an undoable edit."""
