@@ -238,4 +238,70 @@ def reduce_angle(ang, ok, nom, nvalid, t, r, dev):
         dev[b] = best
 
 
-__all__ = ["reduce_angle", "reduce_point", "scan_table"]
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def build_point(b: int, pos, ok, nom, nrm, nvalid, S, T, smax, g, r, lo, width, hist_up, hist_lo, ext, mom, fails,
+                dev, na_, mk) -> None:
+    """:func:`reduce_point` for one build b whose traced point is pos (1, N, 2) and validity ok
+    (N,) (the fused kernel's scratch, :mod:`.tol_fused`): the same operations in the same order,
+    so the same bits; na_, mk (N,) scratch."""
+    N = pos.shape[1]
+    P = r.shape[1]
+    nb = hist_up.shape[1] - 2
+    failed = False
+    rb = r[b]
+    kmax, amax, umax = -1, -1.0, -1.0
+    for k in range(N):
+        na_[k] = -1.0
+        if not nvalid[k]:
+            continue
+        if not ok[k]:
+            failed = True
+            fails[k] += 1
+            continue
+        ax, ay = pos[0, k, 0] - nom[k, 0], pos[0, k, 1] - nom[k, 1]
+        na = math.sqrt(ax * ax + ay * ay)
+        s = nrm[k, 0] * ax + nrm[k, 1] * ay
+        mom[k, 0] += s
+        mom[k, 1] += s * s
+        G = 0.0
+        M = 0.0
+        for j in range(P):
+            G += rb[j] * g[j, k]
+            M += rb[j] * smax[j, k]
+        na_[k], mk[k] = na, M
+        if na + M > umax:
+            umax, kmax = na + M, k
+        amax = max(amax, na)
+        _bin(hist_up, k, s + G, lo[k], width[k], nb)
+        _bin(hist_lo, k, s - G, lo[k], width[k], nb)
+        ext[k, 0] = min(ext[k, 0], s - G)
+        ext[k, 1] = max(ext[k, 1], s - G)
+        ext[k, 2] = min(ext[k, 2], s + G)
+        ext[k, 3] = max(ext[k, 3], s + G)
+    dev[b] = np.inf if failed else 0.0 if kmax < 0 else amax if P == 0 else _exact(pos, nom, 0, rb, S, T, na_, mk, kmax)
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def build_angle(b: int, ang, a0: float, ok, nom, nvalid, t, r, dev) -> None:
+    """:func:`reduce_angle` for one build b: ang (N,) the link's angle less its drawn angle a0
+    (rad; any turn), ok (N,)."""
+    N = ang.shape[0]
+    P = r.shape[1]
+    best = 0.0
+    for k in range(N):
+        if not nvalid[k]:
+            continue
+        if not ok[k]:
+            best = np.inf
+            break
+        d = (ang[k] + a0) - nom[k]
+        d = d - 2.0 * math.pi * math.floor(d / (2.0 * math.pi) + 0.5)
+        v = abs(d)
+        for j in range(P):
+            v += r[b, j] * t[j, k]
+        if v > best:
+            best = v
+    dev[b] = best
+
+
+__all__ = ["build_angle", "build_point", "reduce_angle", "reduce_point", "scan_table"]
