@@ -50,7 +50,7 @@ class _TolGen(_Gen):
         e("okk[k] = ok")
         scales = {k: self.c("step", steps[k].group.name, "scale") for k in modal}
         J, L = len(self.joints), len(self.links)
-        jargs = "".join(f", nom{i}, nrm{i}, S{i}, T{i}, smax{i}, g{i}, lo{i}, wd{i}, hu{i}, hl{i}, ext{i}, mom{i}, "
+        jargs = "".join(f", nom{i}, nrm{i}, S{i}, T{i}, Q{i}, smax{i}, g{i}, lo{i}, wd{i}, hu{i}, hl{i}, ext{i}, mom{i}, "
                         f"fl{i}, dev{i}" for i in range(J))
         largs = "".join(f", lnom{i}, lt{i}, ldev{i}" for i in range(L))
         lines = [HEADER + IMPORTS, "@numba.njit(cache=True, nogil=True, error_model=\"numpy\")",
@@ -69,7 +69,7 @@ class _TolGen(_Gen):
         near = " or ".join(f"not (gmin{k} / {scales[k]} >= {CANDIDATE!r})" for k in modal) or "False"
         lines += [f"{ind}if {near}:", f"{ind}    redo[d] = True", f"{ind}    continue",
                   "        else:", "            okk[:] = False"]
-        lines += [f"        build_point(d, pj{i}, okk, nom{i}, nrm{i}, nvalid, S{i}, T{i}, smax{i}, g{i}, r, lo{i}, "
+        lines += [f"        build_point(d, pj{i}, okk, nom{i}, nrm{i}, nvalid, S{i}, T{i}, Q{i}, smax{i}, g{i}, r, lo{i}, "
                   f"wd{i}, hu{i}, hl{i}, ext{i}, mom{i}, fl{i}, dev{i}, na_, mk)" for i in range(J)]
         lines += [f"        build_angle(d, pl{i}, A0[d, {i}], okk, lnom{i}, nvalid, lt{i}, r, ldev{i})" for i in range(L)]
         return "\n".join(lines) + "\n"

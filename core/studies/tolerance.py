@@ -215,7 +215,7 @@ def _fused(ctx: _Context, values: dict, plays: np.ndarray, n: int, out: dict) ->
     jargs = []
     for j in ctx.joints:
         a, o = A["joints"][j], out["joints"][j]
-        jargs += [a["pos"], a["normal"], a["S"], a["T"], a["smax"], a["g"], a["lo"], a["width"], o["hist_up"],
+        jargs += [a["pos"], a["normal"], a["S"], a["T"], a["Q"], a["smax"], a["g"], a["lo"], a["width"], o["hist_up"],
                   o["hist_lo"], o["ext"], o["mom"], o["fails"], o["dev"]]
     for k in ctx.links:
         jargs += [A["links"][k]["ang"], A["links"][k]["t"], out["links"][k]]
@@ -475,6 +475,8 @@ def _setup(linkage: Linkage, spec: Spec, samples: int, joints: list, links: list
         R = 8.0 * sig + 2.0 * gmax + 1e-9 * size
         arrays["joints"][j] = {"pos": np.ascontiguousarray(nom.pos[j]), "normal": np.ascontiguousarray(nom.normal[j]),
                                "S": np.ascontiguousarray(S), "T": scan_table(np.ascontiguousarray(S)),
+                               "Q": np.ascontiguousarray(np.stack([(S[..., 0, :] ** 2).sum(-1), (S[..., 0, :] * S[..., 1, :]).sum(-1),
+                                                                   (S[..., 1, :] ** 2).sum(-1)], -1)),
                                "smax": np.ascontiguousarray(smax), "g": np.ascontiguousarray(g),
                                "lo": -R, "width": 2.0 * R / BINS}
     for k in links:
