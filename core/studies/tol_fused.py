@@ -39,8 +39,8 @@ class _TolGen(_Gen):
         e = self.emit
         e("ok = " + " & ".join(f"g{k}ok" for k in range(len(steps))))
         modal = [k for k, s in enumerate(steps) if s.group.kind in MODAL_KINDS]
-        for k in modal:
-            e(f"gmin{k} = min(gmin{k}, g{k}gap if (g{k}ok | g{k}sing) else np.inf)")
+        for k in modal:     # stored, and reduced after the samples' loop: a reduction in the loop
+            e(f"gaps{k}[k] = g{k}gap if (g{k}ok | g{k}sing) else np.inf")   # keeps it from vectorising
         for i, (j, _w) in enumerate(self.joints):
             x, y = self.point(self.bp.plan.reporter[j], j)
             e(f"pj{i}[0, k, 0] = {x}; pj{i}[0, k, 1] = {y}")
@@ -59,13 +59,15 @@ class _TolGen(_Gen):
                  "    na_ = np.empty(N)", "    mk = np.empty(N)"]
         lines += [f"    pj{i} = np.zeros((1, N, 2))" for i in range(J)]
         lines += [f"    pl{i} = np.zeros(N)" for i in range(L)]
+        lines += [f"    gaps{k} = np.empty(N)" for k in modal]
         lines += ["    for d in range(D):", "        redo[d] = False", "        if assembled[d]:"]
         ind = "            "
         lines += [f"{ind}K{i} = C[d, {i}]" for i in range(len(self.cols))]
         lines += [ind + ln for ln in self.pre]
-        lines += [f"{ind}gmin{k} = np.inf" for k in modal]
         lines.append(f"{ind}for k in range(N):")
         lines += [ind + "    " + ln for ln in self.body]
+        for k in modal:
+            lines += [f"{ind}gmin{k} = np.inf", f"{ind}for k in range(N):", f"{ind}    gmin{k} = min(gmin{k}, gaps{k}[k])"]
         near = " or ".join(f"not (gmin{k} / {scales[k]} >= {CANDIDATE!r})" for k in modal) or "False"
         lines += [f"{ind}if {near}:", f"{ind}    redo[d] = True", f"{ind}    continue",
                   "        else:", "            okk[:] = False"]

@@ -162,8 +162,8 @@ class _Context:
 def _accumulators(joints: list, links: list, n: int, N: int) -> dict:
     """A block's empty results: per traced joint the histograms, extremes, moments, failures and
     deviations, per followed link the deviations."""
-    return {"joints": {j: {"hist_up": np.zeros((N, BINS + 2), dtype=np.int64),
-                           "hist_lo": np.zeros((N, BINS + 2), dtype=np.int64),
+    return {"joints": {j: {"hist_up": np.zeros((N, BINS + 2), dtype=np.uint16),
+                           "hist_lo": np.zeros((N, BINS + 2), dtype=np.uint16),
                            "ext": np.tile(np.array([np.inf, -np.inf, np.inf, -np.inf]), (N, 1)),
                            "mom": np.zeros((N, 2)), "fails": np.zeros(N, dtype=np.int64), "dev": np.empty(n)}
                        for j in joints},
@@ -237,7 +237,7 @@ def _task(ctx: _Context, block: int) -> dict:
         out["assembled"] = _reference(ctx, values, plays, n, out)
     for o in out["joints"].values():
         # a block's counts fit 16 bits (BLOCK < 2¹⁶): a quarter of the bytes a worker sends back
-        o["hist_up"], o["hist_lo"] = o["hist_up"].astype(np.uint16), o["hist_lo"].astype(np.uint16)
+        o["hist_up"], o["hist_lo"] = o["hist_up"].astype(np.uint16, copy=False), o["hist_lo"].astype(np.uint16, copy=False)
     return out
 
 
