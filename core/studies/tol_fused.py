@@ -56,7 +56,7 @@ class _TolGen(_Gen):
         lines = [HEADER + IMPORTS, "@numba.njit(cache=True, nogil=True, error_model=\"numpy\")",
                  f"def kernel(C, A0, cq, sq, assembled, nvalid, r, redo{jargs}{largs}):",
                  "    D = C.shape[0]", "    N = cq.shape[0]", "    okk = np.zeros(N, dtype=np.bool_)",
-                 "    na_ = np.empty(N)", "    mk = np.empty(N)"]
+                 "    na_ = np.empty(N)", "    mk = np.empty(N)", "    sg = np.empty((2, N))"]
         lines += [f"    pj{i} = np.zeros((1, N, 2))" for i in range(J)]
         lines += [f"    pl{i} = np.zeros(N)" for i in range(L)]
         lines += [f"    gaps{k} = np.empty(N)" for k in modal]
@@ -72,7 +72,7 @@ class _TolGen(_Gen):
         lines += [f"{ind}if {near}:", f"{ind}    redo[d] = True", f"{ind}    continue",
                   "        else:", "            okk[:] = False"]
         lines += [f"        build_point(d, pj{i}, okk, nom{i}, nrm{i}, nvalid, S{i}, T{i}, Q{i}, smax{i}, g{i}, r, lo{i}, "
-                  f"wd{i}, hu{i}, hl{i}, ext{i}, mom{i}, fl{i}, dev{i}, na_, mk)" for i in range(J)]
+                  f"wd{i}, hu{i}, hl{i}, ext{i}, mom{i}, fl{i}, dev{i}, na_, mk, sg)" for i in range(J)]
         lines += [f"        build_angle(d, pl{i}, A0[d, {i}], okk, lnom{i}, nvalid, lt{i}, r, ldev{i})" for i in range(L)]
         return "\n".join(lines) + "\n"
 

@@ -240,36 +240,41 @@ def reduce_angle(ang, ok, nom, nvalid, t, r, dev):
 
 @numba.njit(cache=True, nogil=True, error_model="numpy")
 def build_point(b: int, pos, ok, nom, nrm, nvalid, S, T, Q, smax, g, r, lo, width, hist_up, hist_lo, ext, mom,
-                fails, dev, na_, mk) -> None:
+                fails, dev, na_, mk, sg) -> None:
     """:func:`reduce_point` for one build b whose traced point is pos (1, N, 2) and validity ok
-    (N,) (the fused kernel's scratch, :mod:`.tol_fused`): the same operations in the same order,
-    so the same histograms and moments; the largest distance by :func:`_exact_tight` (Q (P, N, 3)
-    the pins' S_J S_Jᵀ); na_, mk (N,) scratch."""
+    (N,) (the fused kernel's scratch, :mod:`.tol_fused`): the same values, so the same histograms
+    and moments; the largest distance by :func:`_exact_tight` (Q (P, N, 3) the pins' S_J S_Jᵀ);
+    na_, mk (N,) and sg (2, N) scratch. The arithmetic per sample is a loop of its own (it
+    vectorises), the histograms and the per-build maxima another."""
     N = pos.shape[1]
     P = r.shape[1]
     nb = hist_up.shape[1] - 2
-    failed = False
     rb = r[b]
-    kmax, amax, umax = -1, -1.0, -1.0
     for k in range(N):
-        na_[k] = -1.0
-        if not nvalid[k]:
-            continue
-        if not ok[k]:
-            failed = True
-            fails[k] += 1
-            continue
         ax, ay = pos[0, k, 0] - nom[k, 0], pos[0, k, 1] - nom[k, 1]
-        na = math.sqrt(ax * ax + ay * ay)
+        na_[k] = math.sqrt(ax * ax + ay * ay)
         s = nrm[k, 0] * ax + nrm[k, 1] * ay
-        mom[k, 0] += s
-        mom[k, 1] += s * s
         G = 0.0
         M = 0.0
         for j in range(P):
             G += rb[j] * g[j, k]
             M += rb[j] * smax[j, k]
-        na_[k], mk[k] = na, M
+        sg[0, k], sg[1, k], mk[k] = s, G, M
+        use = nvalid[k] & ok[k]
+        mom[k, 0] += s if use else 0.0
+        mom[k, 1] += s * s if use else 0.0
+    failed = False
+    kmax, amax, umax = -1, -1.0, -1.0
+    for k in range(N):
+        if not nvalid[k]:
+            na_[k] = -1.0
+            continue
+        if not ok[k]:
+            na_[k] = -1.0
+            failed = True
+            fails[k] += 1
+            continue
+        na, M, s, G = na_[k], mk[k], sg[0, k], sg[1, k]
         if na + M > umax:
             umax, kmax = na + M, k
         amax = max(amax, na)
