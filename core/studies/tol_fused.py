@@ -18,14 +18,24 @@ threads over blocks (:mod:`.execute`) use every core.
 """
 from __future__ import annotations
 
+import hashlib
+from pathlib import Path
+
 import numpy as np
 
 from ..solver.branches import CANDIDATE
 from ..solver.structure import MODAL_KINDS, GroupKind
+from . import tol_kernels
 from .engine import BatchPlan, Constants
 from .fused import HEADER, _Gen, _module
 
-IMPORTS = "from mechsketch.core.studies.tol_kernels import build_angle, build_point\n\n"
+
+def _imports() -> str:
+    """The generated module's import of the reducers, with a digest of their source: numba's cache
+    of the kernel does not follow the functions it calls, so a change of theirs must change the
+    kernel's source (and so its cache key)."""
+    digest = hashlib.sha256(Path(tol_kernels.__file__).read_bytes()).hexdigest()[:16]
+    return f"from mechsketch.core.studies.tol_kernels import build_angle, build_point  # tol_kernels {digest}\n\n"
 
 
 class _TolGen(_Gen):
@@ -53,7 +63,7 @@ class _TolGen(_Gen):
         jargs = "".join(f", nom{i}, nrm{i}, S{i}, T{i}, Q{i}, smax{i}, g{i}, lo{i}, wd{i}, hu{i}, hl{i}, ext{i}, mom{i}, "
                         f"fl{i}, dev{i}" for i in range(J))
         largs = "".join(f", lnom{i}, lt{i}, ldev{i}" for i in range(L))
-        lines = [HEADER + IMPORTS, "@numba.njit(cache=True, nogil=True, error_model=\"numpy\")",
+        lines = [HEADER + _imports(), "@numba.njit(cache=True, nogil=True, error_model=\"numpy\")",
                  f"def kernel(C, A0, cq, sq, assembled, nvalid, r, redo{jargs}{largs}):",
                  "    D = C.shape[0]", "    N = cq.shape[0]", "    okk = np.zeros(N, dtype=np.bool_)",
                  "    na_ = np.empty(N)", "    mk = np.empty(N)", "    sg = np.empty((2, N))"]
