@@ -439,6 +439,24 @@ def _module(source: str):
         return mod.kernel
 
 
+def columns(cols: list, K: Constants) -> np.ndarray:
+    """(D, len(cols)) the per-design constants of a generated kernel's columns ``cols`` (keys of
+    :meth:`_Gen.c`) from the chunk's constants ``K``."""
+    C = np.empty((K.n, len(cols)))
+    for i, key in enumerate(cols):
+        if key[0] == "at":
+            v = K.at[key[1]][key[2]]
+        elif key[0] == "axis":
+            v = K.axis[key[1]][key[2]]
+        elif key[2] == "rv":
+            c = K.steps[key[1]]
+            v = RATE_EPS * EPS * (1.0 + c["coord"] / c["scale"])
+        else:
+            v = K.steps[key[1]][key[2]]
+        C[:, i] = np.broadcast_to(np.real(v), (K.n, 1))[:, 0]
+    return C
+
+
 class Fused:
     """A compiled kernel for one plan, order, set of outputs and kind of input (``steady``: a
     constant input rate and no acceleration, read once per design), with its column layout."""
@@ -452,19 +470,7 @@ class Fused:
 
     def columns(self, K: Constants) -> np.ndarray:
         """The per-design constants (D, columns) the kernel reads."""
-        C = np.empty((K.n, len(self.cols)))
-        for i, key in enumerate(self.cols):
-            if key[0] == "at":
-                v = K.at[key[1]][key[2]]
-            elif key[0] == "axis":
-                v = K.axis[key[1]][key[2]]
-            elif key[2] == "rv":
-                c = K.steps[key[1]]
-                v = RATE_EPS * EPS * (1.0 + c["coord"] / c["scale"])
-            else:
-                v = K.steps[key[1]][key[2]]
-            C[:, i] = np.broadcast_to(np.real(v), (K.n, 1))[:, 0]
-        return C
+        return columns(self.cols, K)
 
     def __call__(self, K: Constants, cq: np.ndarray, sq: np.ndarray, w_in: np.ndarray, al_in: np.ndarray,
                  out_joints: list, out_links: list, status: np.ndarray | None = None
@@ -482,4 +488,4 @@ class Fused:
         return status, red
 
 
-__all__ = ["Fused", "cache_dir", "fusable", "transmission_extremes"]
+__all__ = ["Fused", "cache_dir", "columns", "fusable", "transmission_extremes"]

@@ -27,7 +27,7 @@ from ..solver.branches import CANDIDATE
 from ..solver.structure import MODAL_KINDS, GroupKind
 from . import tol_kernels
 from .engine import BatchPlan, Constants
-from .fused import HEADER, _Gen, _module
+from .fused import HEADER, _Gen, _module, columns
 
 
 def _imports() -> str:
@@ -100,8 +100,7 @@ class TolFused:
 
     def columns(self, K: Constants) -> np.ndarray:
         """(D, columns) the per-design constants, as :meth:`.fused.Fused.columns`."""
-        from .fused import Fused
-        return Fused.columns(self, K)
+        return columns(self.cols, K)
 
     def angle0(self, K: Constants) -> np.ndarray:
         """(D, links) each followed link's drawn angle, rad."""
