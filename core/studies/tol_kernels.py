@@ -78,6 +78,36 @@ def _newton(nx: float, ny: float, ax: float, ay: float, r, S, k: int):
     return best, bx, by
 
 
+#: cos 10°: a's direction this near the best scanned direction starts the same climb
+NEAR = math.cos(2 * math.pi / SCAN)
+
+
+@numba.njit(inline="always")
+def _worst_once(ax: float, ay: float, r, S, T, M: float, k: int, wx: float, wy: float):
+    """:func:`_worst` less a climb that would repeat another: where the pins rival the dimensions, the
+    second Newton's method (from a's direction) runs only if that direction is more than one scan
+    step (10°) from the best scanned one — within it both climb the same slope to the same maximum."""
+    na = math.sqrt(ax * ax + ay * ay)
+    if (wx != 0.0 or wy != 0.0) and na > 2.0 * M:
+        return _newton(wx, wy, ax, ay, r, S, k)
+    if na > 2.0 * M:
+        return _newton(ax / na, ay / na, ax, ay, r, S, k)
+    bestv, px, py = -np.inf, 1.0, 0.0
+    for i in range(SCAN):
+        c, sn = _DIRS[i, 0], _DIRS[i, 1]
+        v = c * ax + sn * ay
+        for j in range(r.shape[0]):
+            v += r[j] * T[j, k, i]
+        if v > bestv:
+            bestv, px, py = v, c, sn
+    f, fx, fy = _newton(px, py, ax, ay, r, S, k)
+    if na > 0.0 and px * ax + py * ay < NEAR * na:
+        g, gx, gy = _newton(ax / na, ay / na, ax, ay, r, S, k)
+        if g > f:
+            return g, gx, gy
+    return f, fx, fy
+
+
 @numba.njit(cache=True, nogil=True, error_model="numpy")
 def scan_table(S):
     """(P, N, SCAN) |S_Jᵀ d_i| of each pin J at each sample for the scanned directions d_i: what
@@ -299,7 +329,7 @@ def _exact_tight(pos, nom, rb, S, T, Q, na_, mk, kmax: int) -> float:
     :func:`_exact`'s: only samples whose bound cannot beat the best are skipped."""
     N, P = pos.shape[1], rb.shape[0]
     ax, ay = pos[0, kmax, 0] - nom[kmax, 0], pos[0, kmax, 1] - nom[kmax, 1]
-    best, wx, wy = _worst(ax, ay, rb, S, T, mk[kmax], kmax, 0.0, 0.0)
+    best, wx, wy = _worst_once(ax, ay, rb, S, T, mk[kmax], kmax, 0.0, 0.0)
     R = 0.0
     for j in range(P):
         R += rb[j]
@@ -332,7 +362,7 @@ def _exact_tight(pos, nom, rb, S, T, Q, na_, mk, kmax: int) -> float:
             U *= 1.0 + 1e-14          # the bounds' own rounding
         if U > best:
             warm = last == k - 1
-            v, wx, wy = _worst(ax, ay, rb, S, T, M, k, wx if warm else 0.0, wy if warm else 0.0)
+            v, wx, wy = _worst_once(ax, ay, rb, S, T, M, k, wx if warm else 0.0, wy if warm else 0.0)
             last = k
             if v > best:
                 best = v
