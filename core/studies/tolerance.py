@@ -21,7 +21,10 @@ play direction is the worst at every sample (:mod:`.tol_kernels`). Builds that d
 dropped from a percentile, and :attr:`ToleranceResult.failed` says how many there are.
 
 The same seed gives the same numbers whatever runs the builds (:mod:`.execute`: blocks of
-:data:`BLOCK` builds with their own random stream).
+:data:`BLOCK` builds with their own random stream). A block runs as one generated compiled loop
+(:mod:`.tol_fused`) where the plan has one and the run is large (``fast``), else by the reference
+path: the batch engine's arrays reduced by :func:`.tol_kernels.reduce_point` (the tests compare
+the two).
 """
 from __future__ import annotations
 
@@ -499,7 +502,9 @@ def tolerance(linkage: Linkage, spec: dict, builds: int = 10_000, samples: int |
               fast: bool | None = None) -> ToleranceResult:
     """The Monte Carlo of the module docstring; ``joints`` the traced points (default
     :func:`default_joints`), ``links`` the links whose angles are followed (default every moving
-    link); ``client``/``workers``/``progress``/``cancel`` as in :mod:`.execute`."""
+    link); ``client``/``workers``/``progress``/``cancel`` as in :mod:`.execute`; ``fast``: True the
+    fused tolerance kernel (:mod:`.tol_fused`, where the plan has one), False the numpy reference
+    path, None the kernel from 2,000,000 build-samples on."""
     start = time.perf_counter()
     sp = parse_spec(linkage, spec)
     builds = int(builds)
