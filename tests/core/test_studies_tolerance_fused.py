@@ -14,10 +14,10 @@ from mechsketch.core.workspace import Workspace
 
 EX = "resources/examples/"
 CASES = {
-    "fourbar": (EX + "fourbar_crank_rocker.json", "fourbar", ["E", "C"], ["coupler", "rocker"],
+    "fourbar": (EX + "fourbar_crank_rocker.json", "fourbar", ["E", "C"], ["crank", "coupler", "rocker"],
                 {"length:crank:A:B": {"normal": 0.0167}, "length:coupler:B:C": {"uniform": 0.05},
                  "clearance": {"B": "H7/g6", "C": "H8/f7"}}),
-    "slider_crank": (EX + "slider_crank_offset.json", "slider_crank", ["B", "C"], ["rod"],
+    "slider_crank": (EX + "slider_crank_offset.json", "slider_crank", ["B", "C"], ["crank", "rod", "slider"],
                      {"length:crank:A:B": {"normal": 0.02}, "length:rod:B:C": {"uniform": 0.04},
                       "clearance": {"B": "H7/g6", "C": "H7/f7"}}),
     "sixbar": (EX + "sixbar_moving_guide.json", "sixbar", ["E"], ["rocker", "rod2"],
