@@ -17,10 +17,15 @@ load average (a report, not a test).
      position, velocity and acceleration — on a sample of designs.
 
    Goals: ours ≤ 2× the floor; ≥ 100× one by one. Times are CPU time of this thread
-   (``time.thread_time``: other processes' preemption does not count), the best of interleaved runs.
+   (``time.thread_time``: other processes' preemption does not count), the best of interleaved runs;
+   ``ours on 2 threads``: the same call with ``workers=2`` (the fused chunks on two threads), wall
+   time and CPU time of every thread.
 2. Tolerance Monte Carlo, the issue's spec (crank σ 0.0167 mm, coupler ±0.05 mm, pins B H7/g6 and
    C H8/f7) over B builds × 360 samples, traced point E: wall time with 1 and 2 threads of this
-   process. Goals: four-bar ≤ 5 s, six-bar ≤ 10 s for 1e6 builds on a quiet 2-core machine.
+   process (the fused tolerance kernel, :mod:`mechsketch.core.studies.tol_fused`), and per
+   build-sample against the hand-written fused loop of the same mechanism (:mod:`studies_floor`,
+   positions, velocities and accelerations: a tolerance build needs only the positions and its
+   reductions). Goals: four-bar ≤ 5 s, six-bar ≤ 10 s for 1e6 builds on a quiet 2-core machine.
    Wall and CPU time are printed (CPU time of every thread of this process, which the load of
    other processes moves much less) and the quiet-machine estimate CPU/2 scaled to 1e6 builds.
 3. Dask: the same tolerance run on a LocalCluster of 1 and of 2 worker processes (one thread
@@ -85,7 +90,7 @@ def kinematics(designs: int, reps: int) -> None:
             return pos, vel, acc, valid
 
         hand()
-        t_ours, t_floor = [], []
+        t_ours, t_floor, t_two, c_two = [], [], [], []
         for _ in range(reps):
             t0 = time.thread_time()
             b = solve_variants(lk, vals, samples=N, order=2, joints=["E"], links=[], fast=True)
@@ -94,6 +99,10 @@ def kinematics(designs: int, reps: int) -> None:
             t2 = time.thread_time()
             t_ours.append(t1 - t0)
             t_floor.append(t2 - t1)
+            w0, c0 = time.perf_counter(), time.process_time()
+            solve_variants(lk, vals, samples=N, order=2, joints=["E"], links=[], fast=True, workers=2)
+            t_two.append(time.perf_counter() - w0)
+            c_two.append(time.process_time() - c0)
         err = max(np.nanmax(np.abs(b.position("E") - pos)) / 200.0,
                   np.nanmax(np.abs(b.velocity("E") - vel)) / np.nanmax(np.abs(vel)),
                   np.nanmax(np.abs(b.acceleration("E") - acc)) / np.nanmax(np.abs(acc)))
@@ -118,30 +127,56 @@ def kinematics(designs: int, reps: int) -> None:
               f"{t_one / (per_ours * N):,.0f}× (goal ≥ 100×; the floor itself {t_one / (per_floor * N):,.0f}×); "
               f"floor vs ours: max relative difference {err:.1e}, "
               f"valid {'the same' if same_valid else 'DIFFERS'}")
+        two = min(t_two) / designs
+        print(f"  {label:8s} ours on 2 threads (workers=2): wall {two * 1e6:.1f} µs/design = {t_one / two:,.0f}× one by one "
+              f"(CPU {min(c_two) / designs * 1e6:.1f} µs/design, all threads; wall is bounded by the CPU the load "
+              f"leaves: {load()})")
     print(f"  {load()}")
 
 
-def tol(builds: int, workers: int, lk) -> tuple[float, float, object]:
+def tol(builds: int, workers: int, lk, fast: bool = True) -> tuple[float, float, object]:
     """Wall and CPU seconds (this process, every thread) of one tolerance run, and its result."""
     t0, c0 = time.perf_counter(), time.process_time()
-    t = tolerance(lk, SPEC, builds=builds, samples=N, seed=1, joints=["E"], links=[], workers=workers, fast=True)
+    t = tolerance(lk, SPEC, builds=builds, samples=N, seed=1, joints=["E"], links=[], workers=workers, fast=fast)
     return time.perf_counter() - t0, time.process_time() - c0, t
+
+
+def floor_positions(name: str, eid: str, consts, floor, D: int = 4096) -> float:
+    """CPU seconds per design-sample of the hand-written fused loop (order 2: its positions are
+    what a tolerance build needs, its rates come nearly free), D designs of the drawn mechanism."""
+    lk = element(name, eid)
+    K = consts(lk, np.full(D, 40.0), np.full(D, 140.0))
+    th = np.linspace(0.0, 2.0 * np.pi, N, endpoint=False)
+    pos = np.empty((D, N, 2))
+    vel, acc, valid = np.empty_like(pos), np.empty_like(pos), np.empty((D, N), dtype=bool)
+    best = np.inf
+    for _ in range(4):
+        t0 = time.thread_time()
+        floor(K, np.cos(th), np.sin(th), 1.0, pos, vel, acc, valid)
+        best = min(best, time.thread_time() - t0)
+    return best / (D * N)
 
 
 def tolerance_runs(builds: int) -> None:
     print(f"\n2. tolerance Monte Carlo, {builds:,} builds × {N} samples, the issue's spec, traced point E; {load()}")
     print("   wall time moves with the load; CPU time (all threads of this process) does much less: on a quiet "
           "2-core machine\n   two threads would take about CPU/2 of wall time (the estimate printed)")
-    for label, name, eid, *_ in CASES:
+    for label, name, eid, consts, floor in CASES:
         lk = element(name, eid)
         tol(5000, 1, lk)    # compile
         goal = 5.0 if label == "four-bar" else 10.0
+        fl = floor_positions(name, eid, consts, floor)
+        nref = max(4096, builds // 25)
+        _w, cref, _t = tol(nref, 1, lk, fast=False)
+        ref = cref / (nref * N)
         for w in (1, 2):
             dt, cpu, t = tol(builds, w, lk)
             per = cpu / (builds * N) * 1e9
             est = cpu / 2.0 * 1e6 / builds
             print(f"  {label:8s} {w} thread{'s' if w > 1 else ' '}: wall {dt:7.2f} s, CPU {cpu:7.2f} s = {per:5.1f} ns per "
-                  f"build-sample; quiet 2-core estimate for 1e6 builds {est:6.1f} s (goal ≤ {goal:g} s); p99 deviation "
+                  f"build-sample = {per / (fl * 1e9):.2f}× the hand-written fused loop's {fl * 1e9:.1f} ns (order 2), "
+                  f"the reference path (fast=False, {nref:,} builds) {ref * 1e9:.0f} ns: {ref * 1e9 / per:.1f}× faster; "
+                  f"quiet 2-core estimate for 1e6 builds {est:6.1f} s (goal ≤ {goal:g} s); p99 deviation "
                   f"{t.percentile('E', 99):.4f} mm, {t.failed} failed; {load()}")
 
 

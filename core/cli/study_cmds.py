@@ -8,10 +8,14 @@ output folder is written only when the study has finished: a bad study, an unrea
 or a cancelled run leaves nothing. Written (each file atomically):
 
 - ``designs.csv`` (sweep), ``builds.csv`` (montecarlo) or ``evaluations.csv`` (optimize): one
-  row per design with its variables and metrics (units in ``summary.json``);
+  row per design with its variables and metrics (units in ``summary.json``); with
+  ``"output": {"format": "parquet"}`` in the study or ``--format parquet`` (which wins) the tables
+  are Parquet files instead (``designs.parquet``…, written by pyarrow: every column in its own
+  type — the design index int64, the numbers float64 at full precision — its unit in the field's
+  metadata);
 - ``summary.json``: counts (designs that do not assemble included), ranges, percentiles,
   sensitivities, the Pareto set, the time and what ran it;
-- montecarlo of a linkage: ``envelope.csv``, per sample the nominal point and the 0.5 %, 50 % and
+- montecarlo of a linkage: ``envelope.csv`` (or ``.parquet``), per sample the nominal point and the 0.5 %, 50 % and
   99.5 % envelope points of each traced joint;
 - optimize: ``pareto/ELEMENT_K.json``, a scene file per Pareto design (the study's scene with the
   element replaced), which opens in the app.
@@ -39,6 +43,8 @@ def add_study_parser(sub) -> argparse.ArgumentParser:
     where = s.add_mutually_exclusive_group()
     where.add_argument("--workers", type=int, metavar="N", help="run on a local Dask cluster of N processes")
     where.add_argument("--scheduler", metavar="ADDRESS", help="run on the Dask cluster of this scheduler")
+    s.add_argument("--format", metavar="csv|parquet", help="the tables' format (default: the study's "
+                   "\"output\": {\"format\": ...}, else csv)")
     return s
 
 
@@ -124,14 +130,19 @@ def _cluster(workers: int | None, scheduler: str | None):
 
 
 def run_study_file(path: str, out: str, workers: int | None = None, scheduler: str | None = None,
-                   progress=None, cancel=None):
+                   progress=None, cancel=None, fmt: str | None = None):
     """``mechsketch study`` from Python: check, run (``workers`` local Dask processes, a
-    ``scheduler`` address, or neither: this process), write ``out``; returns the
+    ``scheduler`` address, or neither: this process), write ``out`` (tables in ``fmt``, "csv" or
+    "parquet"; default the study's ``"output"``); returns the
     :class:`~mechsketch.core.studies.study.StudyResult`. ``progress``/``cancel`` as in
     :mod:`mechsketch.core.studies.execute`."""
-    from ..studies.study import run_study
+    from ..studies.study import FORMATS, run_study
 
+    if fmt is not None and fmt not in FORMATS:
+        raise RequestError(f"--format {fmt!r}: not one of {', '.join(FORMATS)}")
     scene, st = prepare(path)
+    if fmt is not None:
+        st.format = fmt
     folder = _out_folder(out)
     client, cluster = _cluster(workers, scheduler)
     try:
@@ -161,6 +172,32 @@ def _csv(columns: dict) -> str:
     return "\n".join([",".join(names)] + rows) + "\n"
 
 
+def _table(stem: Path, columns: dict, fmt: str, units: dict) -> Path:
+    """Write ``columns`` (name -> (rows,)) atomically as ``stem.csv`` (:func:`_csv`) or
+    ``stem.parquet`` (each column in its own dtype, the unit in the field's metadata); returns the
+    path."""
+    from ..io.atomic import atomic_write, atomic_write_text
+
+    if fmt == "csv":
+        path = stem.with_suffix(".csv")
+        atomic_write_text(path, _csv(columns))
+        return path
+    import numpy as np
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    fields, arrays = [], []
+    for name, v in columns.items():
+        a = pa.array(np.asarray(v))
+        meta = {"unit": units[name]} if units.get(name) else None
+        fields.append(pa.field(name, a.type, metadata=meta))
+        arrays.append(a)
+    table = pa.Table.from_arrays(arrays, schema=pa.schema(fields))
+    path = stem.with_suffix(".parquet")
+    atomic_write(path, lambda tmp: pq.write_table(table, tmp))
+    return path
+
+
 def _plain(x):
     """``x`` with non-finite floats as strings (JSON has no NaN or Infinity)."""
     import numpy as np
@@ -185,9 +222,9 @@ def write_study(res, scene, folder: Path) -> list[Path]:
 
     folder.mkdir(parents=True, exist_ok=True)
     kind = res.study.kind
-    name = {"sweep": "designs.csv", "montecarlo": "builds.csv", "optimize": "evaluations.csv"}[kind]
-    written = [folder / name]
-    atomic_write_text(written[0], _csv(res.columns))
+    fmt = getattr(res.study, "format", "csv")
+    name = {"sweep": "designs", "montecarlo": "builds", "optimize": "evaluations"}[kind]
+    written = [_table(folder / name, res.columns, fmt, res.units)]
     summary = dict(res.summary)
     summary["columns"] = {k: res.units.get(k, "") for k in res.columns}
     if res.tolerance is not None:
@@ -199,8 +236,7 @@ def write_study(res, scene, folder: Path) -> list[Path]:
                 e = t.envelope(j, q)
                 env[f"{j}.q{q:g}.x"], env[f"{j}.q{q:g}.y"] = e[:, 0], e[:, 1]
         if env:
-            written.append(folder / "envelope.csv")
-            atomic_write_text(written[-1], _csv({"sample": np.arange(t.samples), **env}))
+            written.append(_table(folder / "envelope", {"sample": np.arange(t.samples), **env}, fmt, {}))
     if res.pareto:
         pdir = folder / "pareto"
         pdir.mkdir(exist_ok=True)
@@ -217,7 +253,7 @@ def write_study(res, scene, folder: Path) -> list[Path]:
 
 def run(args: argparse.Namespace) -> int:
     """``mechsketch study`` (parsed); returns the exit status (errors raise MechsketchError)."""
-    res = run_study_file(args.study, args.out, workers=args.workers, scheduler=args.scheduler)
+    res = run_study_file(args.study, args.out, workers=args.workers, scheduler=args.scheduler, fmt=args.format)
     s = res.summary
     print(f"study {args.study}: {s['kind']} of {s.get('element', '')!r} in {s['seconds']:.2f} s; wrote {args.out}")
     return 0

@@ -325,28 +325,40 @@ class _Gen:
         e = self.emit
         e("ok = " + " & ".join(f"g{k}ok" for k in range(len(steps))))
         e("sing = " + " | ".join(f"g{k}sing" for k in range(len(steps))))
-        e("full = full & (ok | sing)")
-        e("sing_any = sing_any | sing")
-        # reductions: per group the smallest assembled margin / scale, the smallest valid conditioning
+        # the per-design reductions' terms are stored per sample and reduced after the samples'
+        # loop (in the same order, so to the same bits): a reduction carried through the loop keeps
+        # it from vectorising, which costs 2-3x. Per group the smallest assembled margin / scale,
+        # the smallest valid conditioning, (RRR) the extremes of the outer joints' squared distance
+        e("zf[k] = ok | sing; zs[k] = sing")
         for k, s in enumerate(steps):
-            e(f"gmin{k} = min(gmin{k}, g{k}gap if (g{k}ok | g{k}sing) else np.inf)")
-            e(f"cmin{k} = min(cmin{k}, g{k}cond if ok else np.inf)")
+            e(f"zg{k}[k] = g{k}gap if (g{k}ok | g{k}sing) else np.inf; zc{k}[k] = g{k}cond if ok else np.inf")
             if s.group.kind is GroupKind.RRR:   # μ is least where the outer joints are nearest or farthest
-                e(f"mc{k} = min(mc{k}, g{k}D2 if ok else np.inf); md{k} = max(md{k}, g{k}D2 if ok else -np.inf)")
+                e(f"zm{k}[k] = g{k}D2 if ok else np.inf; zx{k}[k] = g{k}D2 if ok else -np.inf")
         outs = self._outputs()
         scales = [self.c("step", st.group.name, "scale") for st in steps]
+        rrr = [k for k, st in enumerate(steps) if st.group.kind is GroupKind.RRR]
         lines = [HEADER, "@numba.njit(cache=True, nogil=True, error_model=\"numpy\")",
                  f"def kernel(C, cq, sq, w_in, al_in, status, red{''.join(', ' + o for o in outs)}):",
-                 "    D = C.shape[0]", "    N = cq.shape[0]", "    for d in range(D):"]
+                 "    D = C.shape[0]", "    N = cq.shape[0]", "    zf = np.empty(N, dtype=np.bool_)",
+                 "    zs = np.empty(N, dtype=np.bool_)"]
+        lines += [f"    zg{k} = np.empty(N); zc{k} = np.empty(N)" for k in range(len(steps))]
+        lines += [f"    zm{k} = np.empty(N); zx{k} = np.empty(N)" for k in rrr]
+        lines.append("    for d in range(D):")
         for i in range(len(self.cols)):
             lines.append(f"        K{i} = C[d, {i}]")
         lines += ["        " + ln for ln in self.pre]
+        lines.append("        for k in range(N):")
+        lines += ["            " + ln for ln in self.body]
         lines.append("        full = True")
         lines.append("        sing_any = False")
         for k in range(len(steps)):
             lines.append(f"        gmin{k} = np.inf; cmin{k} = np.inf; mc{k} = np.inf; md{k} = -np.inf")
         lines.append("        for k in range(N):")
-        lines += ["            " + ln for ln in self.body]
+        lines.append("            full = full & zf[k]; sing_any = sing_any | zs[k]")
+        for k in range(len(steps)):
+            lines.append(f"            gmin{k} = min(gmin{k}, zg{k}[k]); cmin{k} = min(cmin{k}, zc{k}[k])")
+        for k in rrr:
+            lines.append(f"            mc{k} = min(mc{k}, zm{k}[k]); md{k} = max(md{k}, zx{k}[k])")
         lines.append("        red[d, 0] = 1.0 if full else 0.0")
         lines.append("        red[d, 1] = 1.0 if sing_any else 0.0")
         for k in range(len(steps)):
@@ -358,28 +370,21 @@ class _Gen:
     def _outputs(self) -> list[str]:
         """Write the requested joints and links (NaN where not valid) and the rates' validity."""
         e = self.emit
-        names, writes, blanks = [], [], []
+        names, writes = [], []
         for i, (j, w) in enumerate(self.joints):
             x, y = (self.point, self.vel, self.acc)[w](self.bp.plan.reporter[j], j)
             names.append(f"oj{i}")
-            writes.append(f"oj{i}[d, k, 0] = {x}; oj{i}[d, k, 1] = {y}")
-            blanks.append(f"oj{i}[d, k, 0] = NAN; oj{i}[d, k, 1] = NAN")
+            writes += [(f"oj{i}[d, k, 0]", x), (f"oj{i}[d, k, 1]", y)]
         for i, (link, what) in enumerate(self.links):
             s = self.st[link]
             names.append(f"ol{i}")
             if what == 0:
-                writes.append(f"ol{i}[d, k, 0] = {s['cs'][0]}; ol{i}[d, k, 1] = {s['cs'][1]}")
-                blanks.append(f"ol{i}[d, k, 0] = NAN; ol{i}[d, k, 1] = NAN")
+                writes += [(f"ol{i}[d, k, 0]", s["cs"][0]), (f"ol{i}[d, k, 1]", s["cs"][1])]
             else:
-                writes.append(f"ol{i}[d, k] = {s['w'] if what == 1 else s['al']}")
-                blanks.append(f"ol{i}[d, k] = NAN")
-        if writes:
-            e("if ok:")
-            for w in writes:
-                e("    " + w)
-            e("else:")
-            for w in blanks:
-                e("    " + w)
+                writes.append((f"ol{i}[d, k]", s["w"] if what == 1 else s["al"]))
+        # a select rather than a branch per sample: stores that always happen vectorise
+        for dest, val in writes:
+            e(f"{dest} = {val} if ok else NAN")
         if self.order >= 1:
             # rates valid (as Solution.rates_valid): valid and every group's velocity system
             # conditioned. The reference also asks every rate to be finite; within the model's
@@ -434,6 +439,24 @@ def _module(source: str):
         return mod.kernel
 
 
+def columns(cols: list, K: Constants) -> np.ndarray:
+    """(D, len(cols)) the per-design constants of a generated kernel's columns ``cols`` (keys of
+    :meth:`_Gen.c`) from the chunk's constants ``K``."""
+    C = np.empty((K.n, len(cols)))
+    for i, key in enumerate(cols):
+        if key[0] == "at":
+            v = K.at[key[1]][key[2]]
+        elif key[0] == "axis":
+            v = K.axis[key[1]][key[2]]
+        elif key[2] == "rv":
+            c = K.steps[key[1]]
+            v = RATE_EPS * EPS * (1.0 + c["coord"] / c["scale"])
+        else:
+            v = K.steps[key[1]][key[2]]
+        C[:, i] = np.broadcast_to(np.real(v), (K.n, 1))[:, 0]
+    return C
+
+
 class Fused:
     """A compiled kernel for one plan, order, set of outputs and kind of input (``steady``: a
     constant input rate and no acceleration, read once per design), with its column layout."""
@@ -447,19 +470,7 @@ class Fused:
 
     def columns(self, K: Constants) -> np.ndarray:
         """The per-design constants (D, columns) the kernel reads."""
-        C = np.empty((K.n, len(self.cols)))
-        for i, key in enumerate(self.cols):
-            if key[0] == "at":
-                v = K.at[key[1]][key[2]]
-            elif key[0] == "axis":
-                v = K.axis[key[1]][key[2]]
-            elif key[2] == "rv":
-                c = K.steps[key[1]]
-                v = RATE_EPS * EPS * (1.0 + c["coord"] / c["scale"])
-            else:
-                v = K.steps[key[1]][key[2]]
-            C[:, i] = np.broadcast_to(np.real(v), (K.n, 1))[:, 0]
-        return C
+        return columns(self.cols, K)
 
     def __call__(self, K: Constants, cq: np.ndarray, sq: np.ndarray, w_in: np.ndarray, al_in: np.ndarray,
                  out_joints: list, out_links: list, status: np.ndarray | None = None
@@ -477,4 +488,4 @@ class Fused:
         return status, red
 
 
-__all__ = ["Fused", "cache_dir", "fusable", "transmission_extremes"]
+__all__ = ["Fused", "cache_dir", "columns", "fusable", "transmission_extremes"]

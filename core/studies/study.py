@@ -59,7 +59,9 @@ KINDS = ("sweep", "montecarlo", "optimize")
 BLOCK_DESIGNS = 2048
 #: the largest grid or design count a study accepts (beyond: a Monte Carlo or Sobol sample)
 MAX_DESIGNS = 50_000_000
-TOP = {"variables", "metrics", "target", "samples", "seed", "scene", "element", "clearance"} | set(KINDS)
+TOP = {"variables", "metrics", "target", "samples", "seed", "scene", "element", "clearance", "output"} | set(KINDS)
+#: the formats of a study's tables (``"output": {"format": ...}``; ``mechsketch study --format``)
+FORMATS = ("csv", "parquet")
 
 
 @dataclass
@@ -76,6 +78,8 @@ class Study:
     clearance: dict = field(default_factory=dict)
     target: np.ndarray | None = None
     target_joint: str | None = None
+    #: the tables' format, one of :data:`FORMATS`
+    format: str = "csv"
 
 
 def _entry(what: str, msg: str) -> RequestError:
@@ -90,6 +94,17 @@ def _num(what: str, v, integer: bool = False, positive: bool = False) -> float:
     if positive and not v > 0:
         raise _entry(what, f"must be positive, got {v!r}")
     return int(v) if integer else float(v)
+
+
+def output_format(output) -> str:
+    """The tables' format of a study's ``"output"`` entry (``{"format": "csv" | "parquet"}``; default
+    csv); RequestError naming a wrong entry."""
+    if not isinstance(output, dict) or set(output) - {"format"}:
+        raise _entry("output", f"give {{\"format\": \"csv\"}} or {{\"format\": \"parquet\"}}, got {output!r}")
+    fmt = output.get("format", "csv")
+    if fmt not in FORMATS:
+        raise _entry("output format", f"{fmt!r} is not one of {', '.join(FORMATS)}")
+    return fmt
 
 
 def load_study(data: dict, element) -> Study:
@@ -130,6 +145,7 @@ def load_study(data: dict, element) -> Study:
     st = Study(element, kind, dict(settings), dict(var), list(metrics),
                int(_num("samples", data.get("samples", getattr(element, "samples", 360)), True, True)),
                int(_num("seed", data.get("seed", 0), True)), dict(data.get("clearance", {})), tgt, tjoint)
+    st.format = output_format(data.get("output", {}))
     if st.samples < 2 or st.samples > 100_000:
         raise _entry("samples", f"from 2 to 100,000, got {st.samples}")
     {"sweep": _check_sweep, "montecarlo": _check_mc, "optimize": _check_optimize}[kind](st)
@@ -584,4 +600,4 @@ def _de(pop: _Population, lo, hi, size: int, gens: int, seed: int) -> None:
                            rng=np.random.default_rng(seed), vectorized=True, updating="deferred", polish=False)
 
 
-__all__ = ["BLOCK_DESIGNS", "KINDS", "Study", "StudyResult", "design_record", "evaluate", "load_study", "run_study"]
+__all__ = ["BLOCK_DESIGNS", "FORMATS", "KINDS", "Study", "StudyResult", "design_record", "evaluate", "load_study", "output_format", "run_study"]

@@ -78,6 +78,36 @@ def _newton(nx: float, ny: float, ax: float, ay: float, r, S, k: int):
     return best, bx, by
 
 
+#: cos 10°: a's direction this near the best scanned direction starts the same climb
+NEAR = math.cos(2 * math.pi / SCAN)
+
+
+@numba.njit(inline="always")
+def _worst_once(ax: float, ay: float, r, S, T, M: float, k: int, wx: float, wy: float):
+    """:func:`_worst` less a climb that would repeat another: where the pins rival the dimensions, the
+    second Newton's method (from a's direction) runs only if that direction is more than one scan
+    step (10°) from the best scanned one — within it both climb the same slope to the same maximum."""
+    na = math.sqrt(ax * ax + ay * ay)
+    if (wx != 0.0 or wy != 0.0) and na > 2.0 * M:
+        return _newton(wx, wy, ax, ay, r, S, k)
+    if na > 2.0 * M:
+        return _newton(ax / na, ay / na, ax, ay, r, S, k)
+    bestv, px, py = -np.inf, 1.0, 0.0
+    for i in range(SCAN):
+        c, sn = _DIRS[i, 0], _DIRS[i, 1]
+        v = c * ax + sn * ay
+        for j in range(r.shape[0]):
+            v += r[j] * T[j, k, i]
+        if v > bestv:
+            bestv, px, py = v, c, sn
+    f, fx, fy = _newton(px, py, ax, ay, r, S, k)
+    if na > 0.0 and px * ax + py * ay < NEAR * na:
+        g, gx, gy = _newton(ax / na, ay / na, ax, ay, r, S, k)
+        if g > f:
+            return g, gx, gy
+    return f, fx, fy
+
+
 @numba.njit(cache=True, nogil=True, error_model="numpy")
 def scan_table(S):
     """(P, N, SCAN) |S_Jᵀ d_i| of each pin J at each sample for the scanned directions d_i: what
@@ -238,4 +268,128 @@ def reduce_angle(ang, ok, nom, nvalid, t, r, dev):
         dev[b] = best
 
 
-__all__ = ["reduce_angle", "reduce_point", "scan_table"]
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def build_point(b: int, pos, ok, nom, nrm, nvalid, S, T, Q, smax, g, r, lo, width, hist_up, hist_lo, ext, mom,
+                fails, dev, na_, mk, sg) -> None:
+    """:func:`reduce_point` for one build b whose traced point is pos (1, N, 2) and validity ok
+    (N,) (the fused kernel's scratch, :mod:`.tol_fused`): the same values, so the same histograms
+    and moments; the largest distance by :func:`_exact_tight` (Q (P, N, 3) the pins' S_J S_Jᵀ);
+    na_, mk (N,) and sg (2, N) scratch. The arithmetic per sample is a loop of its own (it
+    vectorises), the histograms and the per-build maxima another."""
+    N = pos.shape[1]
+    P = r.shape[1]
+    nb = hist_up.shape[1] - 2
+    rb = r[b]
+    for k in range(N):
+        ax, ay = pos[0, k, 0] - nom[k, 0], pos[0, k, 1] - nom[k, 1]
+        na_[k] = math.sqrt(ax * ax + ay * ay)
+        s = nrm[k, 0] * ax + nrm[k, 1] * ay
+        G = 0.0
+        M = 0.0
+        for j in range(P):
+            G += rb[j] * g[j, k]
+            M += rb[j] * smax[j, k]
+        sg[0, k], sg[1, k], mk[k] = s, G, M
+        use = nvalid[k] & ok[k]
+        mom[k, 0] += s if use else 0.0
+        mom[k, 1] += s * s if use else 0.0
+    failed = False
+    kmax, amax, umax = -1, -1.0, -1.0
+    for k in range(N):
+        if not nvalid[k]:
+            na_[k] = -1.0
+            continue
+        if not ok[k]:
+            na_[k] = -1.0
+            failed = True
+            fails[k] += 1
+            continue
+        na, M, s, G = na_[k], mk[k], sg[0, k], sg[1, k]
+        if na + M > umax:
+            umax, kmax = na + M, k
+        amax = max(amax, na)
+        _bin(hist_up, k, s + G, lo[k], width[k], nb)
+        _bin(hist_lo, k, s - G, lo[k], width[k], nb)
+        ext[k, 0] = min(ext[k, 0], s - G)
+        ext[k, 1] = max(ext[k, 1], s - G)
+        ext[k, 2] = min(ext[k, 2], s + G)
+        ext[k, 3] = max(ext[k, 3], s + G)
+    dev[b] = np.inf if failed else 0.0 if kmax < 0 else amax if P == 0 else _exact_tight(pos, nom, rb, S, T, Q, na_, mk,
+                                                                                          kmax)
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def _exact_tight(pos, nom, rb, S, T, Q, na_, mk, kmax: int) -> float:
+    """:func:`_exact` for the build of pos (1, N, 2) with tighter upper bounds, so that fewer samples
+    are maximised (a quarter to a half as many). The set of worst cases at sample k is
+    a + Y, Y = Σ r_J·S_J·disc, centrally symmetric; with p = Σ r_J |S_Jᵀ â| and p⊥ the same across
+    â, every point y of Y has |y∥| ≤ p and |y⊥| ≤ p⊥, so |a + y| ≤ √((|a| + p)² + p⊥²); and
+    |a + y|² ≤ |a|² + 2|a|p + ρ², ρ² = max |y|² ≤ min(M², Σr_J · λ_max(Σ r_J S_J S_Jᵀ)) (Cauchy–
+    Schwarz). Q (P, N, 3) holds S_J S_Jᵀ per sample (xx, xy, yy). The value found is the same as
+    :func:`_exact`'s: only samples whose bound cannot beat the best are skipped."""
+    N, P = pos.shape[1], rb.shape[0]
+    ax, ay = pos[0, kmax, 0] - nom[kmax, 0], pos[0, kmax, 1] - nom[kmax, 1]
+    best, wx, wy = _worst_once(ax, ay, rb, S, T, mk[kmax], kmax, 0.0, 0.0)
+    R = 0.0
+    for j in range(P):
+        R += rb[j]
+    last = -2
+    for k in range(N):
+        na = na_[k]
+        M = mk[k]
+        if k == kmax or na < 0.0 or na + M <= best:
+            continue
+        ax, ay = pos[0, k, 0] - nom[k, 0], pos[0, k, 1] - nom[k, 1]
+        U = na + M
+        if na > 0.0:
+            ux, uy = ax / na, ay / na
+            p = pp = w0 = w1 = w2 = 0.0
+            for j in range(P):
+                tx = S[j, k, 0, 0] * ux + S[j, k, 1, 0] * uy
+                ty = S[j, k, 0, 1] * ux + S[j, k, 1, 1] * uy
+                p += rb[j] * math.sqrt(tx * tx + ty * ty)
+                tx = S[j, k, 1, 0] * ux - S[j, k, 0, 0] * uy
+                ty = S[j, k, 1, 1] * ux - S[j, k, 0, 1] * uy
+                pp += rb[j] * math.sqrt(tx * tx + ty * ty)
+                w0 += rb[j] * Q[j, k, 0]
+                w1 += rb[j] * Q[j, k, 1]
+                w2 += rb[j] * Q[j, k, 2]
+            L = na + p
+            best = max(best, L)
+            h = 0.5 * (w0 - w2)
+            rho2 = min(M * M, R * (0.5 * (w0 + w2) + math.sqrt(h * h + w1 * w1)))
+            U = min(U, math.sqrt(L * L + pp * pp), math.sqrt(na * na + 2.0 * na * p + rho2))
+            U *= 1.0 + 1e-14          # the bounds' own rounding
+        if U > best:
+            warm = last == k - 1
+            v, wx, wy = _worst_once(ax, ay, rb, S, T, M, k, wx if warm else 0.0, wy if warm else 0.0)
+            last = k
+            if v > best:
+                best = v
+    return best
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def build_angle(b: int, ang, a0: float, ok, nom, nvalid, t, r, dev) -> None:
+    """:func:`reduce_angle` for one build b: ang (N,) the link's angle less its drawn angle a0
+    (rad; any turn), ok (N,)."""
+    N = ang.shape[0]
+    P = r.shape[1]
+    best = 0.0
+    for k in range(N):
+        if not nvalid[k]:
+            continue
+        if not ok[k]:
+            best = np.inf
+            break
+        d = (ang[k] + a0) - nom[k]
+        d = d - 2.0 * math.pi * math.floor(d / (2.0 * math.pi) + 0.5)
+        v = abs(d)
+        for j in range(P):
+            v += r[b, j] * t[j, k]
+        if v > best:
+            best = v
+    dev[b] = best
+
+
+__all__ = ["build_angle", "build_point", "reduce_angle", "reduce_point", "scan_table"]

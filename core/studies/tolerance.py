@@ -21,7 +21,10 @@ play direction is the worst at every sample (:mod:`.tol_kernels`). Builds that d
 dropped from a percentile, and :attr:`ToleranceResult.failed` says how many there are.
 
 The same seed gives the same numbers whatever runs the builds (:mod:`.execute`: blocks of
-:data:`BLOCK` builds with their own random stream).
+:data:`BLOCK` builds with their own random stream). A block runs as one generated compiled loop
+(:mod:`.tol_fused`) where the plan has one and the run is large (``fast``), else by the reference
+path: the batch engine's arrays reduced by :func:`.tol_kernels.reduce_point` (the tests compare
+the two).
 """
 from __future__ import annotations
 
@@ -39,9 +42,12 @@ from ..solver.plan import compile_plan
 from .budget import check_kept, size_text
 from .engine import BatchPlan
 from .execute import block_rng, run_tasks
+from .fused import fusable
+from .geometry import build_geometry
 from .iso286 import Fit, fit
 from .keys import check_keys, variables
 from .linearised import Nominal, _normals, derivatives
+from .tol_fused import TolFused
 from .tol_kernels import reduce_angle, reduce_point, scan_table
 from .variants import Variants
 
@@ -156,33 +162,85 @@ class _Context:
         self.joints, self.links, self.nominal, self.arrays, self.fast = joints, links, nominal, arrays, fast
 
 
+def _accumulators(joints: list, links: list, n: int, N: int) -> dict:
+    """A block's empty results: per traced joint the histograms, extremes, moments, failures and
+    deviations, per followed link the deviations."""
+    return {"joints": {j: {"hist_up": np.zeros((N, BINS + 2), dtype=np.uint16),
+                           "hist_lo": np.zeros((N, BINS + 2), dtype=np.uint16),
+                           "ext": np.tile(np.array([np.inf, -np.inf, np.inf, -np.inf]), (N, 1)),
+                           "mom": np.zeros((N, 2)), "fails": np.zeros(N, dtype=np.int64), "dev": np.empty(n)}
+                       for j in joints},
+            "links": {k: np.empty(n) for k in links}}
+
+
+def _reference(ctx: _Context, values: dict, plays: np.ndarray, n: int, out: dict, idx=None) -> np.ndarray:
+    """Builds ``idx`` (default all n) by the reference path — the batch engine's (B, N, 2) arrays,
+    then :func:`.tol_kernels.reduce_point` — added to ``out``; returns whether each assembled."""
+    bp = _plan(ctx.linkage)
+    if idx is not None:
+        values, plays, n = {k: v[idx] for k, v in values.items()}, plays[idx], idx.size
+    b = Variants(bp, values, n, bp.inputs(ctx.samples), 0)
+    b.fast = False if ctx.fast is False else None
+    b._compute([(j, 0) for j in ctx.joints], [(k, 0) for k in ctx.links], summary=True)
+    ok = b._status & 1
+    A = ctx.arrays
+    for j in ctx.joints:
+        a, o = A["joints"][j], out["joints"][j]
+        dev = np.empty(n)
+        reduce_point(b.position(j), ok, a["pos"], a["normal"], A["valid"], a["S"], a["T"], a["smax"], a["g"], plays,
+                     a["lo"], a["width"], o["hist_up"], o["hist_lo"], o["ext"], o["mom"], o["fails"], dev)
+        o["dev"][slice(None) if idx is None else idx] = dev
+    for k in ctx.links:
+        dev = np.empty(n)
+        reduce_angle(b.angle(k), ok, A["links"][k]["ang"], A["valid"], A["links"][k]["t"], plays, dev)
+        out["links"][k][slice(None) if idx is None else idx] = dev
+    return b.assembled.copy()
+
+
+@functools.lru_cache(maxsize=8)
+def _tol_kernel(linkage: Linkage, joints: tuple, links: tuple) -> TolFused:
+    return TolFused(_plan(linkage), joints, links)
+
+
+def _fused(ctx: _Context, values: dict, plays: np.ndarray, n: int, out: dict) -> np.ndarray:
+    """The block by the fused tolerance kernel (:mod:`.tol_fused`); builds near a toggle by the
+    reference path. Returns whether each build assembled."""
+    bp = _plan(ctx.linkage)
+    tf = _tol_kernel(ctx.linkage, tuple(ctx.joints), tuple(ctx.links))
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        geo = build_geometry(bp.linkage, bp.plan, values, n)
+        K = bp.constants(geo)
+        C = tf.columns(K)
+    ok = np.ascontiguousarray(geo.ok)
+    th = bp.inputs(ctx.samples).q - bp.plan.theta0
+    A = ctx.arrays
+    redo = np.zeros(n, dtype=bool)
+    jargs = []
+    for j in ctx.joints:
+        a, o = A["joints"][j], out["joints"][j]
+        jargs += [a["pos"], a["normal"], a["S"], a["T"], a["Q"], a["smax"], a["g"], a["lo"], a["width"], o["hist_up"],
+                  o["hist_lo"], o["ext"], o["mom"], o["fails"], o["dev"]]
+    for k in ctx.links:
+        jargs += [A["links"][k]["ang"], A["links"][k]["t"], out["links"][k]]
+    tf.kernel(C, tf.angle0(K), np.cos(th), np.sin(th), ok, A["valid"], np.ascontiguousarray(plays), redo, *jargs)
+    if redo.any():
+        _reference(ctx, values, plays, n, out, np.flatnonzero(redo))
+    return ok
+
+
 def _task(ctx: _Context, block: int) -> dict:
     """The builds of one block: per build the deviations, per sample the histograms and moments."""
     n = min(BLOCK, ctx.builds - block * BLOCK)
     values, plays = draw(ctx.spec, ctx.nominal, ctx.seed, block, n)
+    out = _accumulators(ctx.joints, ctx.links, n, ctx.samples)
     bp = _plan(ctx.linkage)
-    inp = bp.inputs(ctx.samples)
-    b = Variants(bp, values, n, inp, 0)
-    b.fast = ctx.fast
-    b._compute([(j, 0) for j in ctx.joints], [(k, 0) for k in ctx.links], summary=True)
-    ok = b._status & 1
-    out = {"assembled": b.assembled.copy(), "joints": {}, "links": {}}
-    A = ctx.arrays
-    N = ctx.samples
-    for j in ctx.joints:
-        a = A["joints"][j]
-        hist_up, hist_lo = np.zeros((N, BINS + 2), dtype=np.int64), np.zeros((N, BINS + 2), dtype=np.int64)
-        ext = np.tile(np.array([np.inf, -np.inf, np.inf, -np.inf]), (N, 1))
-        mom, fails, dev = np.zeros((N, 2)), np.zeros(N, dtype=np.int64), np.empty(n)
-        reduce_point(b.position(j), ok, a["pos"], a["normal"], A["valid"], a["S"], a["T"], a["smax"], a["g"], plays,
-                     a["lo"], a["width"], hist_up, hist_lo, ext, mom, fails, dev)
+    if ctx.fast and fusable(bp):
+        out["assembled"] = _fused(ctx, values, plays, n, out)
+    else:
+        out["assembled"] = _reference(ctx, values, plays, n, out)
+    for o in out["joints"].values():
         # a block's counts fit 16 bits (BLOCK < 2¹⁶): a quarter of the bytes a worker sends back
-        out["joints"][j] = {"dev": dev, "hist_up": hist_up.astype(np.uint16), "hist_lo": hist_lo.astype(np.uint16),
-                            "ext": ext, "mom": mom, "fails": fails}
-    for k in ctx.links:
-        dev = np.empty(n)
-        reduce_angle(b.angle(k), ok, A["links"][k]["ang"], A["valid"], A["links"][k]["t"], plays, dev)
-        out["links"][k] = dev
+        o["hist_up"], o["hist_lo"] = o["hist_up"].astype(np.uint16, copy=False), o["hist_lo"].astype(np.uint16, copy=False)
     return out
 
 
@@ -420,6 +478,8 @@ def _setup(linkage: Linkage, spec: Spec, samples: int, joints: list, links: list
         R = 8.0 * sig + 2.0 * gmax + 1e-9 * size
         arrays["joints"][j] = {"pos": np.ascontiguousarray(nom.pos[j]), "normal": np.ascontiguousarray(nom.normal[j]),
                                "S": np.ascontiguousarray(S), "T": scan_table(np.ascontiguousarray(S)),
+                               "Q": np.ascontiguousarray(np.stack([(S[..., 0, :] ** 2).sum(-1), (S[..., 0, :] * S[..., 1, :]).sum(-1),
+                                                                   (S[..., 1, :] ** 2).sum(-1)], -1)),
                                "smax": np.ascontiguousarray(smax), "g": np.ascontiguousarray(g),
                                "lo": -R, "width": 2.0 * R / BINS}
     for k in links:
@@ -442,7 +502,9 @@ def tolerance(linkage: Linkage, spec: dict, builds: int = 10_000, samples: int |
               fast: bool | None = None) -> ToleranceResult:
     """The Monte Carlo of the module docstring; ``joints`` the traced points (default
     :func:`default_joints`), ``links`` the links whose angles are followed (default every moving
-    link); ``client``/``workers``/``progress``/``cancel`` as in :mod:`.execute`."""
+    link); ``client``/``workers``/``progress``/``cancel`` as in :mod:`.execute`; ``fast``: True the
+    fused tolerance kernel (:mod:`.tol_fused`, where the plan has one), False the numpy reference
+    path, None the kernel from 2,000,000 build-samples on."""
     start = time.perf_counter()
     sp = parse_spec(linkage, spec)
     builds = int(builds)

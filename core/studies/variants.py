@@ -10,6 +10,7 @@ mm/s and accelerations mm/s², link angles (D, N) rad, ω, α, ``valid`` and ``r
 """
 from __future__ import annotations
 
+import concurrent.futures as cf
 import math
 import time
 from typing import Callable, Iterable
@@ -221,9 +222,11 @@ class _Sink:
                 self.flags[key][idx] = v
         self._geometry(idx, geo)
 
-    def fused(self, d0: int, d1: int, fz: Fused, bp: BatchPlan, chunk: dict, inp: Inputs) -> np.ndarray:
-        """Designs d0..d1 by the fused kernel; returns the designs to solve again on the numpy
-        path (those near a toggle, where the branch screening decides)."""
+    def fused(self, d0: int, d1: int, fz: Fused, bp: BatchPlan, chunk: dict, inp: Inputs) -> tuple:
+        """Designs d0..d1 by the fused kernel (thread-safe: it writes only their rows); returns
+        their indices and geometry (for :meth:`_geometry`, called in the chunks' order) and the
+        designs to solve again on the numpy path (those near a toggle, where the branch screening
+        decides)."""
         n = d1 - d0
         geo = build_geometry(bp.linkage, bp.plan, chunk, n)
         K = bp.constants(geo)
@@ -260,12 +263,11 @@ class _Sink:
             self.flags["full_cycle"][d0:d1] = full_c
             self.flags["dead_point"][d0:d1] = geo.ok & (~full_c | low | (red[:, 1] > 0))
             self.flags["min_transmission_angle"][d0:d1] = np.where(np.isfinite(mu) & geo.ok, np.degrees(mu), np.nan)
-        self._geometry(idx, geo)
         near = np.zeros(n, dtype=bool)
         for k, s in enumerate(steps):
             if s.group.kind in MODAL_KINDS:
                 near |= ~(red[:, 2 + 4 * k] >= CANDIDATE)
-        return idx[near & geo.ok]
+        return idx, geo, idx[near & geo.ok]
 
 
 class Variants:
@@ -282,6 +284,9 @@ class Variants:
         #: reference), None from FUSED_MIN design-samples on (below, numpy answers before a
         #: kernel could compile)
         self.fast: bool | None = None
+        #: threads over the fused path's chunks (its kernel releases the GIL); the same numbers
+        #: whatever their number
+        self.workers = 1
 
     # -- the cycle -------------------------------------------------------------------------
     @property
@@ -371,25 +376,46 @@ class Variants:
         self.seconds += time.perf_counter() - start
 
     def _chunks(self, sink: "_Sink", fz, step: int, progress) -> None:
-        D, N = self.n, np.size(self._inp.q)
-        lk = self.plan.linkage
+        D = self.n
         if fz is not None:
             step = max(step, min(D, FUSED_BLOCK))
-        for d0 in range(0, D, step):
-            d1 = min(D, d0 + step)
-            chunk = {k: v[d0:d1] for k, v in self.values.items()}
-            if fz is None:
+        starts = range(0, D, step)
+        if fz is None:
+            for d0 in starts:
+                d1 = min(D, d0 + step)
+                chunk = {k: v[d0:d1] for k, v in self.values.items()}
                 geo, K, run = solve_chunk(self.plan, chunk, d1 - d0, self._inp, self.order)
                 sink.numpy(np.arange(d0, d1), _Extract(self.plan, geo, K, run, self._inp, self.order), geo)
-            else:
-                redo = sink.fused(d0, d1, fz, self.plan, chunk, self._inp)
-                for lo in range(0, redo.size, max(1, chunk_designs(N, len(lk.joints) + len(lk.links), redo.size))):
-                    idx = redo[lo:lo + chunk_designs(N, len(lk.joints) + len(lk.links), redo.size)]
-                    sub = {k: v[idx] for k, v in self.values.items()}
-                    geo, K, run = solve_chunk(self.plan, sub, idx.size, self._inp, self.order)
-                    sink.numpy(idx, _Extract(self.plan, geo, K, run, self._inp, self.order), geo)
+                if progress is not None:
+                    progress(d1 / D)
+            return
+
+        def one(d0: int) -> tuple:
+            d1 = min(D, d0 + step)
+            with np.errstate(invalid="ignore", divide="ignore", over="ignore"):   # per thread
+                return sink.fused(d0, d1, fz, self.plan, {k: v[d0:d1] for k, v in self.values.items()}, self._inp)
+
+        if self.workers > 1 and len(starts) > 1:     # the kernel releases the GIL: chunks on threads
+            with cf.ThreadPoolExecutor(max_workers=self.workers) as pool:
+                self._finish(sink, zip(starts, pool.map(one, starts)), step, progress)
+        else:
+            self._finish(sink, ((d0, one(d0)) for d0 in starts), step, progress)
+
+    def _finish(self, sink: "_Sink", done, step: int, progress) -> None:
+        """The fused chunks' failures recorded and their designs near a toggle solved again on the
+        numpy path, in the chunks' order (the same reasons' numbering whatever the threads)."""
+        D, N = self.n, np.size(self._inp.q)
+        lk = self.plan.linkage
+        per = len(lk.joints) + len(lk.links)
+        for d0, (idx, geo, redo) in done:
+            sink._geometry(idx, geo)
+            for lo in range(0, redo.size, max(1, chunk_designs(N, per, redo.size))):
+                sub_idx = redo[lo:lo + chunk_designs(N, per, redo.size)]
+                sub = {k: v[sub_idx] for k, v in self.values.items()}
+                geo2, K, run = solve_chunk(self.plan, sub, sub_idx.size, self._inp, self.order)
+                sink.numpy(sub_idx, _Extract(self.plan, geo2, K, run, self._inp, self.order), geo2)
             if progress is not None:
-                progress(d1 / D)
+                progress(min(D, d0 + step) / D)
 
     # -- masks and per-design results --------------------------------------------------------
     def _mask(self, name: str, bit: int) -> np.ndarray:
@@ -481,14 +507,16 @@ class Variants:
 
 def solve_variants(linkage: Linkage, values: dict, samples: int | None = None, order: int = 2,
                    joints: Iterable[str] | None = None, links: Iterable[str] | None = None,
-                   progress: Callable[[float], object] | None = None, fast: bool | None = None) -> Variants:
+                   progress: Callable[[float], object] | None = None, fast: bool | None = None,
+                   workers: int = 1) -> Variants:
     """Solve the designs of ``linkage`` given by ``values`` (key -> scalar or array (D,); see
     :mod:`.keys`) over one cycle of ``samples`` samples (default the linkage's) to derivative
     ``order`` 0-2. ``joints``/``links``: what to keep (default every joint and moving link; the
     others are solved again when first read). RequestError for unknown keys, values that are not
     finite numbers, or results over the memory budget. ``fast``: True the fused compiled loop
     (where the plan has one), False the numpy reference path (the same bits; tests compare
-    them), None the loop from :data:`FUSED_MIN` design-samples on."""
+    them), None the loop from :data:`FUSED_MIN` design-samples on. ``workers``: threads over the
+    fused loop's chunks of :data:`FUSED_BLOCK` designs (the same numbers whatever their number)."""
     if order not in (0, 1, 2):
         raise RequestError(f"order must be 0, 1 or 2, got {order}")
     vals, n = design_values(linkage, values)
@@ -496,6 +524,7 @@ def solve_variants(linkage: Linkage, values: dict, samples: int | None = None, o
     inp = bp.inputs(samples or linkage.samples)
     b = Variants(bp, vals, n, inp, order)
     b.fast = fast
+    b.workers = max(1, int(workers))
     js = list(linkage.joint_ids if joints is None else joints)
     ls = list(linkage.moving_links if links is None else links)
     for j in js:

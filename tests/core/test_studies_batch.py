@@ -322,3 +322,35 @@ def test_bad_requests_name_the_entry(monkeypatch):
     monkeypatch.setenv("MECHSKETCH_MEMORY_MB", "5")
     with pytest.raises(RequestError, match="MECHSKETCH_MEMORY_MB"):
         solve_variants(lk, {"length:crank:A:B": np.full(2000, 40.0)}, samples=360)
+
+
+def test_threads_over_the_fused_chunks_give_the_same_bits(monkeypatch):
+    """workers=2 runs the fused loop's chunks on two threads: every array, mask, flag and failure
+    reason the same bits as one thread, designs that do not assemble (two reasons) and designs near
+    the toggle (solved again on the numpy path) spread over several chunks."""
+    from mechsketch.core.studies.variants import FUSED_BLOCK
+
+    lk = Workspace.open(f"{EXAMPLES}/fourbar_crank_rocker.json").element("fourbar")
+    D = 2 * FUSED_BLOCK + 77
+    rng = np.random.default_rng(4)
+    crank = 40.0 + rng.normal(size=D) * 6.0
+    crank[::997] = 500.0                       # cannot close
+    rocker = 120.0 + rng.normal(size=D) * 2.0
+    rocker[5::1013] = -3.0                      # not a length
+    rocker[7::50] = 60.2                        # coupler + rocker just above the largest reach: a toggle
+    vals = {"length:crank:A:B": crank, "length:rocker:D:C": rocker}
+    kw = dict(samples=24, order=2, joints=["E", "C"], links=["rocker"], fast=True)
+    import mechsketch.core.studies.variants as V
+    redone, solve = [], V.solve_chunk
+    monkeypatch.setattr(V, "solve_chunk", lambda bp, values, n, *r: redone.append(n) or solve(bp, values, n, *r))
+    a, b = solve_variants(lk, vals, workers=1, **kw), solve_variants(lk, vals, workers=2, **kw)
+    assert sum(redone) > 0                     # the numpy path took the designs near the toggle
+    assert (~a.assembled).sum() > 20 and len(a.failures()) >= 2
+    for f in ("position", "velocity", "acceleration"):
+        for j in ("E", "C"):
+            assert np.array_equal(getattr(a, f)(j), getattr(b, f)(j), equal_nan=True), (f, j)
+    assert np.array_equal(a.angle("rocker"), b.angle("rocker"), equal_nan=True)
+    for m in ("valid", "rates_valid", "assembled", "full_cycle", "dead_point", "min_transmission_angle"):
+        assert np.array_equal(np.asarray(getattr(a, m)), np.asarray(getattr(b, m)), equal_nan=True), m
+    assert a.failures() == b.failures()
+    assert [a.message(d) for d in range(0, D, 997)] == [b.message(d) for d in range(0, D, 997)]

@@ -189,3 +189,68 @@ def test_an_unreachable_scheduler_is_named_and_nothing_is_written(tmp_path, caps
     assert main(["study", write(tmp_path, study), "--out", str(out), "--scheduler", "tcp://127.0.0.1:9"]) == 1
     assert "tcp://127.0.0.1:9" in capsys.readouterr().err
     assert not out.exists()
+
+
+# -- Parquet ---------------------------------------------------------------------------------------
+def _parquet(path: Path) -> dict[str, np.ndarray]:
+    import pyarrow.parquet as pq
+
+    table = pq.read_table(path)
+    return {name: table.column(name).to_numpy() for name in table.column_names}, table.schema
+
+
+def _same_table(csv_path: Path, pq_path: Path) -> None:
+    """The Parquet table is the CSV's: the same columns in the same order, and each value printed as
+    the CSV prints it (10 significant digits, NaN empty) gives the CSV's text exactly."""
+    cols, schema = _parquet(pq_path)
+    with open(csv_path, newline="") as fh:
+        rows = list(csv.reader(fh))
+    assert rows[0] == list(cols)
+    for i, name in enumerate(rows[0]):
+        a = np.asarray(cols[name], dtype=float)
+        text = np.where(np.isnan(a), "", np.char.mod("%.10g", a))
+        assert list(text) == [r[i] for r in rows[1:]], name
+
+
+def test_parquet_tables_are_the_csv_tables(tmp_path, capsys):
+    """A sweep and a Monte Carlo written as Parquet (from the study file, and by --format) read back
+    with pyarrow: the CSV's columns and values, full precision, sensible types, units attached."""
+    sweep = {"scene": FOURBAR, "element": "fourbar", "samples": 60, "seed": 1,
+             "variables": {"length:crank:A:B": {"values": [30.0, 40.0, 400.0]}, "length:rocker:D:C": {"range": [100, 140]}},
+             "metrics": ["min_transmission_angle", "full_cycle"], "sweep": {"method": "grid", "points": 3}}
+    assert main(["study", write(tmp_path, sweep), "--out", str(tmp_path / "c")]) == 0
+    assert main(["study", write(tmp_path, {**sweep, "output": {"format": "parquet"}}, "p.json"), "--out",
+                 str(tmp_path / "p")]) == 0
+    assert not (tmp_path / "p" / "designs.csv").exists()
+    _same_table(tmp_path / "c" / "designs.csv", tmp_path / "p" / "designs.parquet")
+    cols, schema = _parquet(tmp_path / "p" / "designs.parquet")
+    assert cols["design"].dtype == np.int64 and cols["min_transmission_angle"].dtype == np.float64
+    assert schema.field("length:crank:A:B").metadata == {b"unit": b"mm"}
+    assert schema.field("min_transmission_angle").metadata == {b"unit": "°".encode()}
+    broken = cols["assembled"] == 0                                   # crank 400: not assembled, NaN kept
+    assert broken.sum() == 3 and np.isnan(cols["min_transmission_angle"][broken]).all()
+    ref = run_study_file(write(tmp_path, sweep, "again.json"), str(tmp_path / "r"))
+    assert np.array_equal(cols["min_transmission_angle"], ref.columns["min_transmission_angle"], equal_nan=True)
+
+    mc = {"scene": FOURBAR, "samples": 36, "seed": 5, "variables": {"length:crank:A:B": {"normal": 0.02}},
+          "clearance": {"B": "H7/g6"}, "montecarlo": {"builds": 500, "joints": ["E"]}, "output": {"format": "csv"}}
+    assert main(["study", write(tmp_path, mc, "mc.json"), "--out", str(tmp_path / "mc")]) == 0
+    assert main(["study", write(tmp_path, mc, "mc.json"), "--out", str(tmp_path / "mq"), "--format", "parquet"]) == 0
+    for name in ("builds", "envelope"):
+        _same_table(tmp_path / "mc" / f"{name}.csv", tmp_path / "mq" / f"{name}.parquet")
+    summary = json.loads((tmp_path / "mq" / "summary.json").read_text())
+    assert summary["builds"] == 500
+
+
+@pytest.mark.parametrize("where", ["study", "cli"])
+def test_a_bad_format_is_named_and_nothing_is_written(tmp_path, capsys, where):
+    study = {"scene": FOURBAR, "variables": {"length:crank:A:B": {"range": [40, 42]}}, "metrics": ["full_cycle"],
+             "sweep": {"points": 2}}
+    args = ["--format", "xlsx"] if where == "cli" else []
+    if where == "study":
+        study["output"] = {"format": "xlsx"}
+    out = tmp_path / "never"
+    assert main(["study", write(tmp_path, study), "--out", str(out), *args]) == 1
+    err = capsys.readouterr().err
+    assert "'xlsx'" in err and "parquet" in err, err
+    assert not out.exists()
