@@ -27,10 +27,10 @@ from typing import Callable
 import numpy as np
 
 from . import families as F
-from .atlas_store import (DEFAULT_DESIGNS, FUNC_HARMONICS, MIN_MU_DEG, POINTS, SAMPLES, SPECS, VERSION, Atlas,
-                          atlas_folder, family_params, read_atlas, save_atlas)
+from .atlas_store import (DEFAULT_DESIGNS, FUNC_HARMONICS, MIN_MU_DEG, POINTS, SAMPLES, SPECS, VERSION, VERSION_CHANGES,
+                          Atlas, atlas_folder, family_params, read_atlas, read_meta, save_atlas)
 from .descriptors import DESC_DIM, fourier_descriptor
-from .targets import DesignError, Progress, report
+from .targets import Cancelled, DesignError, Progress, report
 
 #: designs drawn per chunk (before screening)
 CHUNK = 32_768   # a power of 2: the Sobol sequence keeps its balance per chunk
@@ -186,46 +186,96 @@ def _harmonics(topology: str, out: np.ndarray, theta: np.ndarray) -> tuple[np.nd
     return np.stack(cols, axis=1), turns
 
 
+def _chunk_task(ctx: tuple, i: int) -> Chunk:
+    """Chunk ``ctx[3] + i`` of the atlas (a task of :func:`~mechsketch.core.studies.execute.run_tasks`)."""
+    topology, seed, chunk, first, solver, min_mu_deg = ctx
+    return solve_chunk(topology, first + i, seed, chunk, min_mu_deg, solver)
+
+
+def _cluster_size(client) -> int:
+    try:
+        return max(len(client.scheduler_info().get("workers", {})), 1)
+    except (AttributeError, OSError):
+        return 1
+
+
+def _stop(cancel) -> bool:
+    if cancel is None:
+        return False
+    return bool(cancel.is_set() if hasattr(cancel, "is_set") else cancel())
+
+
 def build_atlas(topology: str, designs: int, seed: int = 0, progress: Progress | None = None, client=None,
-                solver: Solver | None = None, chunk: int = CHUNK) -> Atlas:
-    """An atlas of at least ``designs`` designs of ``topology`` (see the module docstring); on
-    a Dask cluster when ``client`` (a ``dask.distributed.Client``) is given."""
+                solver: Solver | None = None, chunk: int = CHUNK, workers: int = 1, cancel=None) -> Atlas:
+    """An atlas of ``designs`` designs of ``topology`` (see the module docstring), solved by the
+    studies engine (:func:`~.atlas_engine.engine_solver`; ``solver``: another, e.g.
+    :func:`closed_form_solver`). The chunks run as tasks of the studies engine's runner
+    (:func:`~mechsketch.core.studies.execute.run_tasks`): in this process (``workers`` threads)
+    or on the Dask cluster of ``client`` (a ``distributed.Client`` or a scheduler address), in
+    rounds sized from the share of designs that passed so far; the atlas is chunks 0, 1, ... in
+    order, cut at ``designs``, so it is the same bits whoever ran which chunk. ``progress``
+    (fraction, message) may return True to cancel, as may ``cancel`` (an Event or a callable):
+    :class:`~.targets.Cancelled` is raised and nothing is returned."""
+    from ..studies.execute import StudyCancelled, connect, run_tasks
+    from .atlas_engine import engine_solver
+
     if topology not in SPECS:
         raise DesignError(f"no atlas for topology {topology!r} (atlases: {', '.join(SPECS)})")
+    if designs < 1:
+        raise DesignError(f"an atlas needs at least one design, got {designs}")
+    solve = solver or engine_solver
     start = time.perf_counter()
+    if client is not None:
+        client = connect(client)
+    lanes = _cluster_size(client) if client is not None else max(int(workers), 1)
     parts: list[Chunk] = []
     have, index = 0, 0
+    asked = [False]
+
     while have < designs:
-        if client is not None:
-            futs = client.map(solve_chunk, [topology] * 4, [index + k for k in range(4)], seed=seed, chunk=chunk,
-                              solver=solver, pure=True)
-            got = client.gather(futs)
-            index += 4
-        else:
-            got = [solve_chunk(topology, index, seed, chunk, solver=solver)]
-            index += 1
+        per = have / (index * chunk) if index else 0.0        # designs kept per design drawn so far
+        need = math.ceil((designs - have) / (per * chunk)) if per > 0 else 1
+        n = max(min(need, 4 * lanes), lanes if index else 1)
+
+        def tick(done: int, total: int, have=have, n=n, per=per) -> None:
+            est = have + (done / max(total, 1)) * n * chunk * (per or 0.0)
+            msg = f"{topology} atlas: {min(int(est), designs):,} of {designs:,} designs (chunk {index + done})"
+            asked[0] = asked[0] or bool(progress is not None and progress(min(est / designs, 0.999), msg))
+
+        try:
+            got = run_tasks(_chunk_task, (topology, seed, chunk, index, solve, MIN_MU_DEG), n, client=client,
+                            workers=lanes if client is None else 1, progress=tick,
+                            cancel=lambda: asked[0] or _stop(cancel))
+        except StudyCancelled as exc:
+            raise Cancelled(f"the {topology} atlas: {exc}") from None
+        index += n
         for c in got:
-            parts.append(c)
-            have += c.shape.shape[0]
-        report(progress, min(have / designs, 1.0), f"{topology} atlas: {min(have, designs):,} of {designs:,} designs")
+            if have < designs:
+                parts.append(c)
+                have += c.shape.shape[0]
         if index > 10_000:
             raise DesignError(f"the {topology} atlas: too few designs pass the screen")
+    report(progress, 1.0, f"{topology} atlas: {designs:,} of {designs:,} designs")
     cat = {name: np.concatenate([getattr(c, name) for c in parts])[:designs] for name in
            ("shape", "points", "func", "turns", "mu")}
     cat["desc"] = np.concatenate([c.desc for c in parts])[: designs * POINTS]
     drawn = sum(c.drawn for c in parts)
     meta = {"version": VERSION, "topology": topology, "designs": designs, "points": POINTS, "samples": SAMPLES,
             "seed": seed, "drawn": drawn, "min_mu_deg": MIN_MU_DEG, "seconds": time.perf_counter() - start,
-            "solver": "closed form" if solver is None else getattr(solver, "__name__", "custom"),
-            "built": time.strftime("%Y-%m-%dT%H:%M:%S"), "dask": client is not None}
+            "solver": SOLVER_NAMES.get(getattr(solve, "__name__", ""), getattr(solve, "__name__", "custom")),
+            "built": time.strftime("%Y-%m-%dT%H:%M:%S"), "dask": client is not None, "lanes": lanes}
     return Atlas(topology, meta=meta, **cat)
+
+
+#: how the meta data names the solvers
+SOLVER_NAMES = {"engine_solver": "studies engine (solve_variants)", "closed_form_solver": "closed form"}
 
 
 _LOADED: dict[tuple[str, int], Atlas] = {}
 
 
 def load_atlas(topology: str, designs: int | None = None, progress: Progress | None = None,
-               build: bool = True, client=None) -> Atlas:
+               build: bool = True, client=None, workers: int = 1) -> Atlas:
     """The atlas of ``topology`` with ``designs`` designs (default ``$MECHSKETCH_ATLAS_DESIGNS``
     or :data:`~.atlas_store.DEFAULT_DESIGNS`): from memory, else from the cache folder, else built
     now (with ``progress``; on a Dask cluster with ``client``) and stored. ``build=False``
@@ -239,9 +289,15 @@ def load_atlas(topology: str, designs: int | None = None, progress: Progress | N
     folder = atlas_folder(topology, n)
     atlas = read_atlas(folder)
     if atlas is None:
+        stale = older_atlas(topology, n)
         if not build:
-            raise DesignError(f"the {topology} atlas ({n:,} designs) is not built yet (cache folder {folder.parent})")
-        atlas = build_atlas(topology, n, progress=progress, client=client)
+            raise DesignError(f"the {topology} atlas ({n:,} designs) is not built yet (cache folder {folder.parent})"
+                              + (f"; {stale}" if stale else ""))
+        if stale:
+            report(progress, 0.0, stale)
+        atlas = build_atlas(topology, n, progress=progress, client=client, workers=workers)
+        if stale:
+            atlas.meta["replaces"] = stale
         try:
             save_atlas(atlas, folder)
         except OSError as exc:   # a read-only cache: keep it in memory for this session
@@ -250,10 +306,22 @@ def load_atlas(topology: str, designs: int | None = None, progress: Progress | N
     return atlas
 
 
+def older_atlas(topology: str, designs: int) -> str:
+    """A message naming an atlas of ``topology`` and ``designs`` of an older format in the cache
+    folder (it is left there, unread, and rebuilt in the current format), or ""."""
+    found = [v for v in range(1, VERSION) if read_meta(atlas_folder(topology, designs, v)) is not None]
+    if not found:
+        return ""
+    return (f"the cached {topology} atlas is of format v{found[-1]} (older than v{VERSION}: "
+            f"{VERSION_CHANGES[VERSION]}); rebuilding it (the old one, "
+            f"{atlas_folder(topology, designs, found[-1])}, may be deleted)")
+
+
 def forget_loaded() -> None:
     """Drop the atlases kept in memory (tests; a changed cache folder)."""
     _LOADED.clear()
 
 
-__all__ = ["CHUNK", "Chunk", "build_atlas", "closed_form_solver", "forget_loaded", "load_atlas", "screen",
+__all__ = ["CHUNK", "Chunk", "SOLVER_NAMES", "build_atlas", "closed_form_solver", "forget_loaded", "load_atlas",
+           "older_atlas", "screen",
            "sixbar_lengths", "solve_chunk"]

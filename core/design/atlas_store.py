@@ -25,7 +25,10 @@ import numpy as np
 from . import families as F
 from .descriptors import DESC_DIM
 
-VERSION = 1
+VERSION = 2
+#: what each format version changed (the message when an older cached atlas is rebuilt)
+VERSION_CHANGES = {1: "closed-form build",
+                   2: "built by the studies engine's batch kernels; six-bars with a slider dyad added"}
 #: coupler points per design
 POINTS = 2
 #: crank-angle samples per turn when building
@@ -102,8 +105,17 @@ def cache_dir() -> Path:
     return base / "mechsketch"
 
 
-def atlas_folder(topology: str, designs: int) -> Path:
-    return cache_dir() / f"atlas-v{VERSION}" / f"{topology}-{designs}"
+def atlas_folder(topology: str, designs: int, version: int = VERSION) -> Path:
+    """Where the atlas of ``topology`` with ``designs`` designs of format ``version`` is kept."""
+    return cache_dir() / f"atlas-v{version}" / f"{topology}-{designs}"
+
+
+def read_meta(folder: Path) -> dict | None:
+    """The ``meta.json`` of the atlas in ``folder`` (any version), or None."""
+    try:
+        return json.loads((folder / "meta.json").read_text())
+    except (OSError, ValueError):
+        return None
 
 
 @dataclass
@@ -197,5 +209,5 @@ def function_values(atlas: Atlas, rows: np.ndarray, theta: np.ndarray) -> np.nda
 
 
 __all__ = ["Atlas", "DEFAULT_DESIGNS", "DESC_DIM", "FUNC_HARMONICS", "MIN_MU_DEG", "POINTS", "SAMPLES", "SMALL_DESIGNS",
-           "SPECS", "Spec", "VERSION", "atlas_folder", "cache_dir", "disk_bytes", "family_params", "function_values",
-           "read_atlas", "save_atlas"]
+           "SPECS", "Spec", "VERSION", "VERSION_CHANGES", "atlas_folder", "cache_dir", "disk_bytes", "family_params", "function_values",
+           "read_atlas", "read_meta", "save_atlas"]
