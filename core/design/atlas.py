@@ -75,7 +75,7 @@ def screen(topology: str, shape: np.ndarray, min_mu_deg: float = MIN_MU_DEG) -> 
     in closed form (the batch solve confirms it)."""
     s = math.sin(math.radians(min_mu_deg))
     with np.errstate(invalid="ignore"):
-        if topology in (F.FOURBAR,) + F.SIXBARS:
+        if topology in (F.FOURBAR,) + F.ALL_SIXBARS:
             a, b, c = shape[:, 0], shape[:, 1], shape[:, 2]
             L = np.sort(np.stack([a, b, c, np.ones_like(a)], axis=1), axis=1)
             grashof = L[:, 0] + L[:, 3] < L[:, 1] + L[:, 2]
@@ -129,6 +129,42 @@ def sixbar_lengths(shape: np.ndarray, points: np.ndarray, min_mu_deg: float = MI
     return shape, points * l1[:, None, None], ok
 
 
+def slider_lengths(shape: np.ndarray, points: np.ndarray, min_mu_deg: float = MIN_MU_DEG, watt: bool = False
+                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Drawn six-bars with a slider (a, b, c, E in units of b — of c on a Watt —, F, the rod's
+    place 0..1, g) made concrete: the rod l1 is at least the largest distance d of E from the
+    guide over the turn divided by cos(μ_min + 2°) (so that the slider's transmission angle,
+    asin √(1 − (d/l1)²), stays above the minimum) and at most four times that (log-uniform
+    by the drawn place); the coupler points are scaled by l1. Returns (shape (n, 9), points,
+    kept (n,) bool)."""
+    shape = shape.copy()
+    unit = shape[:, 2] if watt else shape[:, 1]
+    shape[:, 3] *= unit
+    shape[:, 4] *= unit
+    E, ok = _sixbar_e(shape, watt)
+    e = np.exp(1j * shape[:, 8])[:, None]
+    d = np.abs(np.imag(np.conj(e) * (E - (shape[:, 5] + 1j * shape[:, 6])[:, None])))
+    lo = d.max(axis=1) / math.cos(math.radians(min_mu_deg + 2.0))
+    ok &= lo > 0
+    l1 = np.where(ok, lo * 4.0 ** shape[:, 7], np.nan)
+    shape[:, 7] = l1
+    return shape, points * l1[:, None, None], ok
+
+
+def _sixbar_e(shape: np.ndarray, watt: bool) -> tuple[np.ndarray, np.ndarray]:
+    """(n, 48) the point E over one turn of the six-bars ``shape`` (E in absolute units) and
+    (n,) whether their four-bar assembles all the turn."""
+    n = len(shape)
+    th = 2 * math.pi * np.arange(48) / 48
+    four = np.stack([np.zeros(n), np.zeros(n), np.ones(n), np.zeros(n),
+                     shape[:, 0], shape[:, 1], shape[:, 2], shape[:, 3], shape[:, 4]], axis=1)
+    ev = F.evaluate(F.FOURBAR, four, th[None, :], 1.0)
+    E = ev.P
+    if watt:    # the point on the rocker D C, in its frame
+        E = 1.0 + (shape[:, 3] + 1j * shape[:, 4])[:, None] * (ev.joints["C"] - 1.0) / shape[:, 2][:, None]
+    return E, ev.ok.all(axis=1)
+
+
 def closed_form_solver(topology: str, shape: np.ndarray, points: np.ndarray, theta: np.ndarray):
     """The closed form of :mod:`.families` (tested equal to the product's solver to 1e-12): one
     evaluation per design, every coupler point carried by the coupler it gives."""
@@ -136,7 +172,7 @@ def closed_form_solver(topology: str, shape: np.ndarray, points: np.ndarray, the
     B = ev.joints["B"]
     if topology == F.INVERTED:
         frame = ev.joints["u"]
-    elif topology in F.SIXBARS:
+    elif topology in F.ALL_SIXBARS:
         B = ev.joints["E"]
         frame = (ev.joints["G"] - B) / shape[:, 7][:, None]
     else:
@@ -154,8 +190,9 @@ def solve_chunk(topology: str, index: int, seed: int = 0, chunk: int = CHUNK, mi
     shape, points = _draw(topology, index * chunk, chunk, seed)
     keep = screen(topology, shape, min_mu_deg)
     shape, points = shape[keep], points[keep]
-    if topology in F.SIXBARS:
-        shape, points, keep = sixbar_lengths(shape, points, min_mu_deg, topology == F.WATT)
+    if topology in F.ALL_SIXBARS:
+        lengths = slider_lengths if topology in F.SLIDER_SIXBARS else sixbar_lengths
+        shape, points, keep = lengths(shape, points, min_mu_deg, topology in F.WATTS)
         shape, points = shape[keep], points[keep]
     theta = 2 * math.pi * np.arange(SAMPLES) / SAMPLES
     curves, out, sin_mu, good = solve(topology, shape, points, theta)
@@ -172,7 +209,7 @@ def solve_chunk(topology: str, index: int, seed: int = 0, chunk: int = CHUNK, mi
 def _harmonics(topology: str, out: np.ndarray, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The output over the turn as its turns per crank turn and the harmonics 0..FUNC_HARMONICS
     (a0, a1, b1, a2, b2, ...) of what is left: (D, 2·H + 1), (D,)."""
-    if topology == F.SLIDER_CRANK:
+    if F.OUTPUT_UNIT[topology] == "mm":       # a slider's position
         turns = np.zeros(out.shape[0])
         g = out
     else:
@@ -323,5 +360,5 @@ def forget_loaded() -> None:
 
 
 __all__ = ["CHUNK", "Chunk", "SOLVER_NAMES", "build_atlas", "closed_form_solver", "forget_loaded", "load_atlas",
-           "older_atlas", "screen",
+           "older_atlas", "screen", "slider_lengths",
            "sixbar_lengths", "solve_chunk"]

@@ -13,6 +13,7 @@ first query and kept with the atlas). Building and loading: :mod:`.atlas`.
 from __future__ import annotations
 
 import json
+import math
 import os
 import shutil
 import sys
@@ -72,6 +73,18 @@ SPECS: dict[str, Spec] = {
                  ((0.12, 1.0), (0.3, 3.0), (0.3, 3.0), (-0.5, 1.5), (-1.0, 1.0), (-1.5, 2.5), (-2.0, 2.0),
                   (0.3, 3.0), (0.0, 1.0)),
                  (True, True, True, False, False, False, False, True, False), (-0.5, 1.5), (-1.0, 1.0), "l1"),
+    # with a slider (RRP) as the second dyad: a, b, c, E (units of b; of c on a Watt), a point F
+    # of the guide, where the rod l1 falls in its range (0..1, :func:`~.atlas.slider_lengths`)
+    # and the guide's direction g (rad; the other sense is the other assembly mode)
+    F.SIXBAR_SLIDER: Spec(("a", "b", "c", "ex", "ey", "Fx", "Fy", "l1", "g"),
+                          ((0.12, 1.0), (0.3, 3.0), (0.3, 3.0), (-0.5, 1.5), (-1.0, 1.0), (-1.5, 2.5), (-2.0, 2.0),
+                           (0.0, 1.0), (0.0, math.pi)),
+                          (True, True, True, False, False, False, False, False, False), (-0.5, 1.5), (-1.0, 1.0),
+                          "l1"),
+    F.WATT_SLIDER: Spec(("a", "b", "c", "ex", "ey", "Fx", "Fy", "l1", "g"),
+                        ((0.12, 1.0), (0.3, 3.0), (0.3, 3.0), (-0.5, 1.5), (-1.0, 1.0), (-1.5, 2.5), (-2.0, 2.0),
+                         (0.0, 1.0), (0.0, math.pi)),
+                        (True, True, True, False, False, False, False, False, False), (-0.5, 1.5), (-1.0, 1.0), "l1"),
 }
 
 
@@ -85,7 +98,7 @@ def family_params(topology: str, shape: np.ndarray, points: np.ndarray) -> np.nd
         return np.stack([z, z, one, z, shape[:, 0], shape[:, 1], shape[:, 2], px, py], axis=1)
     if topology == F.SLIDER_CRANK:
         return np.stack([z, z, z, shape[:, 0], one, shape[:, 1], px, py], axis=1)
-    if topology in F.SIXBARS:
+    if topology in F.ALL_SIXBARS:
         return np.concatenate([np.stack([z, z, one, z], axis=1), shape, np.stack([px, py], axis=1)], axis=1)
     return np.stack([z, z, one, z, shape[:, 0], shape[:, 1], px, py], axis=1)
 

@@ -94,8 +94,8 @@ def build_linkage(topology: str, x: np.ndarray, sigma: float, theta0: float, ele
         raise GeometryError(f"the {topology} cannot be assembled at the drawn crank angle {math.degrees(theta0):.6g}°")
     j = {k: complex(v[0, 0]) for k, v in ev.joints.items()}
     P = complex(ev.P[0, 0])
-    out_name = "output" if output else {F.SLIDER_CRANK: "slider", F.SIXBAR: "rocker2", F.WATT: "rocker2"}.get(
-        topology, "rocker")
+    out_name = "output" if output else {F.SLIDER_CRANK: "slider", F.SIXBAR: "rocker2", F.WATT: "rocker2",
+                                        F.SIXBAR_SLIDER: "slider", F.WATT_SLIDER: "slider"}.get(topology, "rocker")
     R = JointKind.R
     if topology == F.FOURBAR:
         joints = [Joint("A", R, _pt(j["A"])), Joint("B", R, _pt(j["B"])), Joint("C", R, _pt(j["C"])),
@@ -113,11 +113,15 @@ def build_linkage(topology: str, x: np.ndarray, sigma: float, theta0: float, ele
         links = [Link("ground", ("A", "C")), Link("crank", ("A", "B")), Link("coupler", ("B", "Q")),
                  Link(out_name, ("C", "Q"))]
     else:   # six-bars: the path point on the link E G of the dyad hung on the connector (or rocker)
-        watt = topology == F.WATT
-        joints = [Joint(k, R, _pt(j[k])) for k in ("A", "B", "C", "D", "E", "F", "G")]
-        links = [Link("ground", ("A", "D", "F")), Link("crank", ("A", "B")), Link("coupler", ("E", "G")),
-                 Link("connector", ("B", "C") if watt else ("B", "C", "E")),
-                 Link("rocker", ("D", "C", "E") if watt else ("D", "C")), Link(out_name, ("F", "G"))]
+        watt = topology in F.WATTS
+        slider = topology in F.SLIDER_SIXBARS      # G a slider's pin on the guide through F: joint S
+        joints = [Joint(k, R, _pt(j[k])) for k in ("A", "B", "C", "D", "E") + (() if slider else ("F",)) + ("G",)]
+        if slider:
+            joints.append(Joint("S", JointKind.P, _pt(j["G"]), _deg(j["e"])))
+        links = [Link("ground", ("A", "D", "S" if slider else "F")), Link("crank", ("A", "B")),
+                 Link("coupler", ("E", "G")), Link("connector", ("B", "C") if watt else ("B", "C", "E")),
+                 Link("rocker", ("D", "C", "E") if watt else ("D", "C")),
+                 Link(out_name, ("G", "S") if slider else ("F", "G"))]
     if point:
         joints.append(Joint("P", R, _pt(P)))
         links[2] = Link("coupler", links[2].joints + ("P",))
@@ -132,10 +136,11 @@ def kind_text(topology: str, x: np.ndarray) -> str:
         d = math.hypot(x[2] - x[0], x[3] - x[1])
         cls, kind = fourbar_type(d, x[4], x[5], x[6])
         return f"{kind.split(' (')[0]}, {cls.split(' (')[0]}"
-    if topology in F.SIXBARS:
+    if topology in F.ALL_SIXBARS:
         d = math.hypot(x[2] - x[0], x[3] - x[1])
-        name = "Watt II" if topology == F.WATT else "Stephenson III"
-        return f"{name} six-bar on a " + fourbar_type(d, x[4], x[5], x[6])[1].split(" (")[0]
+        name = "Watt II" if topology in F.WATTS else "Stephenson III"
+        tail = " and a slider" if topology in F.SLIDER_SIXBARS else ""
+        return f"{name} six-bar on a " + fourbar_type(d, x[4], x[5], x[6])[1].split(" (")[0] + tail
     if topology == F.SLIDER_CRANK:
         off = abs(x[3])
         return ("centric" if off <= 1e-9 * max(x[4], x[5]) else f"offset {off:.4g} mm") + \
@@ -191,7 +196,7 @@ def drive_check(linkage: Linkage, topology: str, x: np.ndarray, sigma: float, th
                           plan)
     ev = F.evaluate(topology, x[None], theta[None], sigma)
     name, ref = ("P", ev.P[0]) if "P" in linkage.joint_ids else ("C", ev.joints["C"][0])
-    if topology in F.SIXBARS and name == "C":
+    if topology in F.ALL_SIXBARS and name == "C":
         name, ref = "G", ev.joints["G"][0]
     got = sol.position(name)
     gap = np.max(np.abs(got[:, 0] + 1j * got[:, 1] - ref))
