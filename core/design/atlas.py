@@ -21,6 +21,7 @@ from __future__ import annotations
 import math
 import os
 import time
+import uuid
 from dataclasses import dataclass
 from typing import Callable
 
@@ -182,28 +183,41 @@ def closed_form_solver(topology: str, shape: np.ndarray, points: np.ndarray, the
     return P, ev.out, ev.sin_mu, ev.ok
 
 
-def solve_chunk(topology: str, index: int, seed: int = 0, chunk: int = CHUNK, min_mu_deg: float = MIN_MU_DEG,
-                solver: Solver | None = None) -> Chunk:
-    """Chunk ``index`` of the atlas: draw, screen, solve, keep, describe (a pure function of its
-    arguments: a Dask task)."""
-    solve = solver or closed_form_solver
+def describe_chunk(topology: str, index: int, seed: int = 0, chunk: int = CHUNK, min_mu_deg: float = MIN_MU_DEG,
+                   solver: Solver | None = None) -> dict[str, np.ndarray]:
+    """Chunk ``index`` of the atlas in float64: draw, screen, solve (``solver``, default the
+    studies engine's :func:`~.atlas_engine.engine_solver`), keep, describe. Returns the kept
+    designs' ``shape`` (K, S), ``points`` (K, P, 2), ``desc`` (K·P, DESC_DIM), ``func``
+    (K, 2·H + 1), ``turns`` (K,), ``mu`` (K,) °, and ``drawn`` (the indices, among the
+    chunk's draws, of the kept designs)."""
+    if solver is None:
+        from .atlas_engine import engine_solver as solver
     shape, points = _draw(topology, index * chunk, chunk, seed)
-    keep = screen(topology, shape, min_mu_deg)
-    shape, points = shape[keep], points[keep]
+    rows = np.flatnonzero(screen(topology, shape, min_mu_deg))
+    shape, points = shape[rows], points[rows]
     if topology in F.ALL_SIXBARS:
         lengths = slider_lengths if topology in F.SLIDER_SIXBARS else sixbar_lengths
         shape, points, keep = lengths(shape, points, min_mu_deg, topology in F.WATTS)
-        shape, points = shape[keep], points[keep]
+        shape, points, rows = shape[keep], points[keep], rows[keep]
     theta = 2 * math.pi * np.arange(SAMPLES) / SAMPLES
-    curves, out, sin_mu, good = solve(topology, shape, points, theta)
+    curves, out, sin_mu, good = solver(topology, shape, points, theta)
     ok = good.all(axis=1) & np.isfinite(curves).all(axis=(1, 2))
     mu = np.degrees(np.arcsin(np.clip(np.min(np.where(good, sin_mu, 0.0), axis=1), 0.0, 1.0)))
     ok &= mu >= min_mu_deg
     curves, out, mu = curves[ok], out[ok], mu[ok]
     desc = fourier_descriptor(curves, compiled=True).reshape(-1, DESC_DIM)
     func, turns = _harmonics(topology, out, theta)
-    return Chunk(shape[ok].astype(np.float32), points[ok].astype(np.float32), desc.astype(np.float16),
-                 func.astype(np.float16), turns.astype(np.int8), mu.astype(np.float16), chunk)
+    return {"shape": shape[ok], "points": points[ok], "desc": desc, "func": func, "turns": turns, "mu": mu,
+            "drawn": rows[ok]}
+
+
+def solve_chunk(topology: str, index: int, seed: int = 0, chunk: int = CHUNK, min_mu_deg: float = MIN_MU_DEG,
+                solver: Solver | None = None) -> Chunk:
+    """Chunk ``index`` of the atlas as stored (:func:`describe_chunk` in the atlas's dtypes; a
+    pure function of its arguments: a Dask task)."""
+    c = describe_chunk(topology, index, seed, chunk, min_mu_deg, solver)
+    return Chunk(c["shape"].astype(np.float32), c["points"].astype(np.float32), c["desc"].astype(np.float16),
+                 c["func"].astype(np.float16), c["turns"].astype(np.int8), c["mu"].astype(np.float16), chunk)
 
 
 def _harmonics(topology: str, out: np.ndarray, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -223,10 +237,23 @@ def _harmonics(topology: str, out: np.ndarray, theta: np.ndarray) -> tuple[np.nd
     return np.stack(cols, axis=1), turns
 
 
-def _chunk_task(ctx: tuple, i: int) -> Chunk:
-    """Chunk ``ctx[3] + i`` of the atlas (a task of :func:`~mechsketch.core.studies.execute.run_tasks`)."""
-    topology, seed, chunk, first, solver, min_mu_deg = ctx
-    return solve_chunk(topology, first + i, seed, chunk, min_mu_deg, solver)
+@dataclass(frozen=True)
+class _Round:
+    """One round of chunks of an atlas build (the context of its tasks: one object, so that Dask
+    scatters it whole; ``nonce`` keeps two builds' rounds apart on one cluster)."""
+
+    topology: str
+    seed: int
+    chunk: int
+    first: int
+    solver: Solver
+    min_mu_deg: float
+    nonce: str
+
+
+def _chunk_task(ctx: _Round, i: int) -> Chunk:
+    """Chunk ``ctx.first + i`` of the atlas (a task of :func:`~mechsketch.core.studies.execute.run_tasks`)."""
+    return solve_chunk(ctx.topology, ctx.first + i, ctx.seed, ctx.chunk, ctx.min_mu_deg, ctx.solver)
 
 
 def _cluster_size(client) -> int:
@@ -267,7 +294,7 @@ def build_atlas(topology: str, designs: int, seed: int = 0, progress: Progress |
     lanes = _cluster_size(client) if client is not None else max(int(workers), 1)
     parts: list[Chunk] = []
     have, index = 0, 0
-    asked = [False]
+    asked, shown = [False], [0.0]
 
     while have < designs:
         per = have / (index * chunk) if index else 0.0        # designs kept per design drawn so far
@@ -277,10 +304,12 @@ def build_atlas(topology: str, designs: int, seed: int = 0, progress: Progress |
         def tick(done: int, total: int, have=have, n=n, per=per) -> None:
             est = have + (done / max(total, 1)) * n * chunk * (per or 0.0)
             msg = f"{topology} atlas: {min(int(est), designs):,} of {designs:,} designs (chunk {index + done})"
-            asked[0] = asked[0] or bool(progress is not None and progress(min(est / designs, 0.999), msg))
+            shown[0] = max(shown[0], min(est / designs, 0.999))      # an estimate: never shown going back
+            asked[0] = asked[0] or bool(progress is not None and progress(shown[0], msg))
 
         try:
-            got = run_tasks(_chunk_task, (topology, seed, chunk, index, solve, MIN_MU_DEG), n, client=client,
+            ctx = _Round(topology, seed, chunk, index, solve, MIN_MU_DEG, uuid.uuid4().hex)
+            got = run_tasks(_chunk_task, ctx, n, client=client,
                             workers=lanes if client is None else 1, progress=tick,
                             cancel=lambda: asked[0] or _stop(cancel))
         except StudyCancelled as exc:
@@ -359,6 +388,5 @@ def forget_loaded() -> None:
     _LOADED.clear()
 
 
-__all__ = ["CHUNK", "Chunk", "SOLVER_NAMES", "build_atlas", "closed_form_solver", "forget_loaded", "load_atlas",
-           "older_atlas", "screen", "slider_lengths",
-           "sixbar_lengths", "solve_chunk"]
+__all__ = ["CHUNK", "Chunk", "SOLVER_NAMES", "build_atlas", "closed_form_solver", "describe_chunk", "forget_loaded",
+           "load_atlas", "older_atlas", "screen", "sixbar_lengths", "slider_lengths", "solve_chunk"]
