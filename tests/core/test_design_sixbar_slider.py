@@ -120,3 +120,36 @@ def test_known_sixbar_with_a_slider_is_recovered(atlas_cache, topology):
     cond = min(sol.conditioning(g.name).min() for g in sol.groups)
     assert math.degrees(math.asin(min(cond, 1.0))) >= 15 - 1e-6
     assert "slider" in best.kind
+
+
+def test_command_line_returns_a_sixbar_with_a_slider_that_validates_and_exports(atlas_cache, tmp_path, capsys):
+    import ezdxf
+
+    from mechsketch.core.cli import main
+    from mechsketch.core.io.scene_file import load_scene
+
+    th = np.linspace(0.2, 0.2 + 2 * math.pi, 40, endpoint=False)
+    _, P = _known(F.SIXBAR_SLIDER, th)
+    P = 1.3 * np.exp(-0.4j) * P + (50 + 80j)
+    csv = tmp_path / "t.csv"
+    csv.write_text("x,y\n" + "\n".join(f"{float(z.real)!r},{float(z.imag)!r}" for z in P) + "\n")
+    out = tmp_path / "out.json"
+    assert main(["design", "path", str(csv), "--out", str(out), "--topology", "sixbar", "--candidates", "1"]) == 0
+    line = capsys.readouterr().out.strip().splitlines()[0]
+    assert line.startswith("1. candidate_1: sixbar_slider, max deviation") and "and a slider" in line
+    (el,) = load_scene(out).elements
+    assert el.joint("S").kind.name == "P" and "P" in el.link("coupler").joints
+    # the element the file holds is drivable by the product's solver and traces the target
+    sol = compile_plan(el).sweep(720, order=0)
+    assert sol.valid.all()
+    p = sol.position("P")
+    z = p[:, 0] + 1j * p[:, 1]
+    assert max(np.min(np.abs(z - q)) for q in P) <= 2e-3 * np.ptp(P.real)   # 720 samples: chords
+    assert main(["validate", str(out)]) == 0
+    dxf = tmp_path / "six.dxf"
+    assert main(["export", str(out), "--dxf", str(dxf)]) == 0
+    capsys.readouterr()
+    doc = ezdxf.readfile(dxf)
+    assert not doc.audit().has_errors
+    layers = {e.dxf.layer for e in doc.modelspace()}
+    assert any("slider" in name for name in layers) and any("coupler" in name for name in layers)
