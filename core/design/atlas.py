@@ -5,16 +5,22 @@ scrambled Sobol sequence (scipy.stats.qmc; chunk k always takes the same stretch
 so the atlas is the same whoever builds which chunk). A first screen in closed form keeps the
 designs whose crank can turn fully with a transmission angle above
 :data:`~.atlas_store.MIN_MU_DEG` (Grashof's condition and the extreme transmission angles at the
-crank's dead-centre lines; for the slider-cranks r + |e| ≤ l and its analogue); the survivors
-are solved over one crank turn in batches (:func:`solve_chunk`), and a design enters only where
-that solve assembles every sample without a branch jump and keeps the transmission angle above
-the minimum. Each of its coupler curves gets a Fourier descriptor (:mod:`.descriptors`), its
-output (the rocker's angle or the slider's position) the first harmonics over the turn.
+crank's dead-centre lines; for the slider-cranks r + |e| ≤ l and its analogue; a six-bar's
+second dyad is sized so that it keeps the angle: :func:`sixbar_lengths`, :func:`slider_lengths`);
+the survivors are solved over one crank turn by the product's batch kernels — the studies
+engine's :func:`~mechsketch.core.studies.variants.solve_variants` on a template linkage
+(:func:`~.atlas_engine.engine_solver`; the closed form of :mod:`.families`,
+:func:`closed_form_solver`, is the tested reference and the build of atlas format v1) — and a
+design enters only where that solve assembles every sample without a branch jump and keeps the
+transmission angle (a slider's: its pressure angle's complement) above the minimum. Each of its
+coupler curves gets a Fourier descriptor (:mod:`.descriptors`), its output (the rocker's angle or
+the slider's position) the first harmonics over the turn.
 
-:func:`build_atlas` runs the chunks in this process, or on a Dask cluster when given a
-``dask.distributed`` client (each chunk one task; the results are the same). :func:`load_atlas`
-returns an atlas from memory, else from the cache folder, else builds and stores it, reporting
-progress.
+:func:`build_atlas` runs the chunks as tasks of the studies engine's runner
+(:func:`~mechsketch.core.studies.execute.run_tasks`): in this process (``workers`` threads) or on a
+Dask cluster (``client``), with progress and cancel; the results are the same bits.
+:func:`load_atlas` returns an atlas from memory, else from the cache folder, else builds and
+stores it, reporting progress (and naming an atlas of an older format it rebuilds).
 """
 from __future__ import annotations
 
@@ -22,12 +28,14 @@ import math
 import os
 import time
 import uuid
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Callable
 
 import numpy as np
 
+from ..studies.execute import StudyCancelled, connect, run_tasks
 from . import families as F
+from .atlas_engine import engine_solver
 from .atlas_store import (DEFAULT_DESIGNS, FUNC_HARMONICS, MIN_MU_DEG, POINTS, SAMPLES, SPECS, VERSION, VERSION_CHANGES,
                           Atlas, atlas_folder, family_params, read_atlas, read_meta, save_atlas)
 from .descriptors import DESC_DIM, fourier_descriptor
@@ -191,7 +199,7 @@ def describe_chunk(topology: str, index: int, seed: int = 0, chunk: int = CHUNK,
     (K, 2·H + 1), ``turns`` (K,), ``mu`` (K,) °, and ``drawn`` (the indices, among the
     chunk's draws, of the kept designs)."""
     if solver is None:
-        from .atlas_engine import engine_solver as solver
+        solver = engine_solver
     shape, points = _draw(topology, index * chunk, chunk, seed)
     rows = np.flatnonzero(screen(topology, shape, min_mu_deg))
     shape, points = shape[rows], points[rows]
@@ -269,6 +277,40 @@ def _stop(cancel) -> bool:
     return bool(cancel.is_set() if hasattr(cancel, "is_set") else cancel())
 
 
+def _gather_chunks(job: _Round, designs: int, client, lanes: int, progress: Progress | None, cancel) -> list[Chunk]:
+    """Chunks 0, 1, ... of ``job`` until they hold ``designs`` designs, run in rounds by
+    :func:`~mechsketch.core.studies.execute.run_tasks` (see :func:`build_atlas`)."""
+    topology, chunk = job.topology, job.chunk
+    parts: list[Chunk] = []
+    have, index = 0, 0
+    asked, shown = [False], [0.0]
+    while have < designs:
+        per = have / (index * chunk) if index else 0.0        # designs kept per design drawn so far
+        need = math.ceil((designs - have) / (per * chunk)) if per > 0 else 1
+        n = max(min(need, 4 * lanes), lanes if index else 1)
+
+        def tick(done: int, total: int, have=have, n=n, per=per, index=index) -> None:
+            est = have + (done / max(total, 1)) * n * chunk * per
+            msg = f"{topology} atlas: {min(int(est), designs):,} of {designs:,} designs (chunk {index + done})"
+            shown[0] = max(shown[0], min(est / designs, 0.999))      # an estimate: never shown going back
+            asked[0] = asked[0] or bool(progress is not None and progress(shown[0], msg))
+
+        ctx = replace(job, first=index, nonce=uuid.uuid4().hex)
+        try:
+            got = run_tasks(_chunk_task, ctx, n, client=client, workers=lanes if client is None else 1,
+                            progress=tick, cancel=lambda: asked[0] or _stop(cancel))
+        except StudyCancelled as exc:
+            raise Cancelled(f"the {topology} atlas: {exc}") from None
+        index += n
+        for c in got:
+            if have < designs:
+                parts.append(c)
+                have += c.shape.shape[0]
+        if index > 10_000:
+            raise DesignError(f"the {topology} atlas: too few designs pass the screen")
+    return parts
+
+
 def build_atlas(topology: str, designs: int, seed: int = 0, progress: Progress | None = None, client=None,
                 solver: Solver | None = None, chunk: int = CHUNK, workers: int = 1, cancel=None) -> Atlas:
     """An atlas of ``designs`` designs of ``topology`` (see the module docstring), solved by the
@@ -280,9 +322,6 @@ def build_atlas(topology: str, designs: int, seed: int = 0, progress: Progress |
     order, cut at ``designs``, so it is the same bits whoever ran which chunk. ``progress``
     (fraction, message) may return True to cancel, as may ``cancel`` (an Event or a callable):
     :class:`~.targets.Cancelled` is raised and nothing is returned."""
-    from ..studies.execute import StudyCancelled, connect, run_tasks
-    from .atlas_engine import engine_solver
-
     if topology not in SPECS:
         raise DesignError(f"no atlas for topology {topology!r} (atlases: {', '.join(SPECS)})")
     if designs < 1:
@@ -292,35 +331,8 @@ def build_atlas(topology: str, designs: int, seed: int = 0, progress: Progress |
     if client is not None:
         client = connect(client)
     lanes = _cluster_size(client) if client is not None else max(int(workers), 1)
-    parts: list[Chunk] = []
-    have, index = 0, 0
-    asked, shown = [False], [0.0]
-
-    while have < designs:
-        per = have / (index * chunk) if index else 0.0        # designs kept per design drawn so far
-        need = math.ceil((designs - have) / (per * chunk)) if per > 0 else 1
-        n = max(min(need, 4 * lanes), lanes if index else 1)
-
-        def tick(done: int, total: int, have=have, n=n, per=per) -> None:
-            est = have + (done / max(total, 1)) * n * chunk * (per or 0.0)
-            msg = f"{topology} atlas: {min(int(est), designs):,} of {designs:,} designs (chunk {index + done})"
-            shown[0] = max(shown[0], min(est / designs, 0.999))      # an estimate: never shown going back
-            asked[0] = asked[0] or bool(progress is not None and progress(shown[0], msg))
-
-        try:
-            ctx = _Round(topology, seed, chunk, index, solve, MIN_MU_DEG, uuid.uuid4().hex)
-            got = run_tasks(_chunk_task, ctx, n, client=client,
-                            workers=lanes if client is None else 1, progress=tick,
-                            cancel=lambda: asked[0] or _stop(cancel))
-        except StudyCancelled as exc:
-            raise Cancelled(f"the {topology} atlas: {exc}") from None
-        index += n
-        for c in got:
-            if have < designs:
-                parts.append(c)
-                have += c.shape.shape[0]
-        if index > 10_000:
-            raise DesignError(f"the {topology} atlas: too few designs pass the screen")
+    parts = _gather_chunks(_Round(topology, seed, chunk, 0, solve, MIN_MU_DEG, ""), designs, client, lanes, progress,
+                           cancel)
     report(progress, 1.0, f"{topology} atlas: {designs:,} of {designs:,} designs")
     cat = {name: np.concatenate([getattr(c, name) for c in parts])[:designs] for name in
            ("shape", "points", "func", "turns", "mu")}

@@ -6,8 +6,11 @@ the assembly modes the atlas uses (σ = +1), with :data:`~.atlas_store.POINTS` c
 values changed (the keys of the studies engine: ``length:LINK:A:B``, ``offset:LINK:P``,
 ``axis:LINK:P``, ``angle:LINK:A:B:C``, ``point:LINK:J:x|y``, ``x:J``/``y:J``), solved over one
 crank turn of N samples in one call. :func:`engine_solver` has the signature of
-:data:`~.atlas.Solver`, so :func:`~.atlas.build_atlas` runs on it unchanged (``solver=``);
-the tests compare it with the closed form (:func:`~.atlas.closed_form_solver`) design by design.
+:data:`~.atlas.Solver` and is the one :func:`~.atlas.build_atlas` uses by default (atlas
+format v2); the tests compare it with the closed form (:func:`~.atlas.closed_form_solver`)
+design by design, chunk by chunk and atlas by atlas. The six-bars with a slider
+(``sixbar_slider``, ``watt_sixbar_slider``) set the guide by ``axis:ground:S`` (its direction)
+and ``x:S``/``y:S`` (a point of it).
 """
 from __future__ import annotations
 
@@ -91,8 +94,9 @@ def _values(topology: str, shape: np.ndarray, points: np.ndarray) -> dict[str, n
     elif topology in F.SLIDER_SIXBARS:   # the guide turned to g, then moved through F
         host = "rocker" if topology in F.WATTS else "connector"
         v = {"length:crank:A:B": shape[:, 0], "length:connector:B:C": shape[:, 1], "length:rocker:D:C": shape[:, 2],
-             f"point:{host}:E:x": shape[:, 3], f"point:{host}:E:y": shape[:, 4], "axis:ground:S": np.degrees(shape[:, 8]),
-             "x:S": shape[:, 5], "y:S": shape[:, 6], "length:coupler:E:G": shape[:, 7]}
+             f"point:{host}:E:x": shape[:, 3], f"point:{host}:E:y": shape[:, 4],
+             "axis:ground:S": np.degrees(shape[:, 8]), "x:S": shape[:, 5], "y:S": shape[:, 6],
+             "length:coupler:E:G": shape[:, 7]}
     else:
         host = "rocker" if topology == F.WATT else "connector"
         v = {"length:crank:A:B": shape[:, 0], "length:connector:B:C": shape[:, 1], "length:rocker:D:C": shape[:, 2],

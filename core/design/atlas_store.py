@@ -222,5 +222,5 @@ def function_values(atlas: Atlas, rows: np.ndarray, theta: np.ndarray) -> np.nda
 
 
 __all__ = ["Atlas", "DEFAULT_DESIGNS", "DESC_DIM", "FUNC_HARMONICS", "MIN_MU_DEG", "POINTS", "SAMPLES", "SMALL_DESIGNS",
-           "SPECS", "Spec", "VERSION", "VERSION_CHANGES", "atlas_folder", "cache_dir", "disk_bytes", "family_params", "function_values",
-           "read_atlas", "read_meta", "save_atlas"]
+           "SPECS", "Spec", "VERSION", "VERSION_CHANGES", "atlas_folder", "cache_dir", "disk_bytes", "family_params",
+           "function_values", "read_atlas", "read_meta", "save_atlas"]
