@@ -7,6 +7,10 @@ Sections (``--section``, default all but the atlas build):
 - ``atlas``: build the atlas of each topology (``--designs``, default 1,000,000) from scratch in
   a temporary cache folder, in this process and on a Dask LocalCluster of ``--workers`` (default
   2) processes; time, designs drawn, disk size; the two builds compared bit for bit.
+- ``atlas-speed``: the build's speed in designs per second, the studies engine (the default
+  build, format v2) against the closed form of core/design/families.py (format v1), the same
+  ``--speed-designs`` (default 50,000) designs of each topology in this process, alternated
+  ``--repeat`` (default 2) times; the two atlases compared (same designs, descriptors).
 - ``warm``: with the four-bar atlas loaded (``--designs``; built first if missing) and its tree
   made, the time (and this process's CPU time) to K = 10 candidates for the unreachable targets
   (each stage timed: retrieval, refinement, the solver's drive checks, validate's cut check).
@@ -21,8 +25,8 @@ Sections (``--section``, default all but the atlas build):
 
 Usage::
 
-    .venv/bin/python benchmarks/bench_synthesis.py [--section warm,reachable,exact,unreachable,atlas]
-        [--designs 1000000] [--workers 2] [--run-de] [--de-seconds 600]
+    .venv/bin/python benchmarks/bench_synthesis.py [--section warm,reachable,exact,unreachable,atlas,atlas-speed]
+        [--designs 1000000] [--workers 2] [--run-de] [--de-seconds 600] [--speed-designs 50000] [--repeat 2]
 """
 from __future__ import annotations
 
@@ -46,7 +50,7 @@ sys.path.insert(0, str(HERE))
 from synthesis_de import MIN_MU_DEG, differential_evolution_reference, measure, targets  # noqa: E402
 
 from mechsketch.core.design import families as F  # noqa: E402
-from mechsketch.core.design.atlas import build_atlas, forget_loaded, load_atlas  # noqa: E402
+from mechsketch.core.design.atlas import build_atlas, closed_form_solver, forget_loaded, load_atlas  # noqa: E402
 from mechsketch.core.design.atlas_store import atlas_folder, disk_bytes, save_atlas  # noqa: E402
 from mechsketch.core.design.function import synthesize_function  # noqa: E402
 from mechsketch.core.design.linkage_path import synthesize_path  # noqa: E402
@@ -56,8 +60,8 @@ from mechsketch.core.design.targets import function_target, path_target, pose_ta
 
 REFERENCE = HERE / "synthesis_de_reference.json"
 TOPS = ("fourbar", "slider_crank", "inverted_slider_crank", "sixbar")
-#: every atlas (the path synthesis's "sixbar" uses both six-bars)
-ATLAS_TOPS = TOPS + ("watt_sixbar",)
+#: every atlas (the path synthesis's "sixbar" uses all four six-bars)
+ATLAS_TOPS = TOPS + ("watt_sixbar", "sixbar_slider", "watt_sixbar_slider")
 
 
 def load() -> str:
@@ -88,7 +92,7 @@ def section_atlas(designs: int, workers: int, ref: float, tops: tuple[str, ...] 
     sections read it), then again on a Dask LocalCluster of ``workers`` processes (compared
     with the first bit for bit, not stored). The in-process build's CPU seconds are printed
     too: on a loaded machine they, divided by the cores, bound what a quiet machine takes."""
-    print(f"atlas build, {designs:,} designs per topology (closed-form batch solver; numba resampling)")
+    print(f"atlas build, {designs:,} designs per topology (the studies engine's batch kernels; numba resampling)")
     for top in tops:
         t0, c0 = time.perf_counter(), time.process_time()
         atlas = build_atlas(top, designs)
@@ -111,6 +115,29 @@ def section_atlas(designs: int, workers: int, ref: float, tops: tuple[str, ...] 
                        for k in ("shape", "points", "desc", "func", "turns", "mu"))
             line(f"{top}: Dask LocalCluster of {workers} processes", many, ref,
                  f"{one / many:.2f}× one process; bit-identical: {same}")
+
+
+def section_atlas_speed(designs: int, repeat: int) -> None:
+    """Designs per second of the atlas build: the studies engine (default) against the closed form."""
+    print(f"atlas build speed, {designs:,} designs per topology, this process: studies engine vs closed form "
+          f"(alternated, {repeat} runs each)")
+    build_atlas("fourbar", 2000, solver=closed_form_solver)   # numba's resampling compiled before timing
+    for top in ATLAS_TOPS:
+        rates: dict[str, list[float]] = {"engine": [], "closed": []}
+        built = {}
+        for _ in range(repeat):
+            for name, solver in (("engine", None), ("closed", closed_form_solver)):
+                t0 = time.perf_counter()
+                built[name] = build_atlas(top, designs, solver=solver)
+                rates[name].append(designs / (time.perf_counter() - t0))
+        e, c = built["engine"], built["closed"]
+        same = np.array_equal(e.shape, c.shape)
+        desc = float(np.max(np.abs(np.asarray(e.desc, float) - np.asarray(c.desc, float))))
+        ratio = [a / b for a, b in zip(rates["engine"], rates["closed"])]
+        print(f"  {top}: engine {min(rates['engine']):,.0f}-{max(rates['engine']):,.0f} designs/s, closed form "
+              f"{min(rates['closed']):,.0f}-{max(rates['closed']):,.0f} designs/s; engine/closed "
+              f"{min(ratio):.2f}-{max(ratio):.2f}×; same designs: {same}, largest descriptor difference "
+              f"{desc:.1e} (float16 storage) [{load()}]", flush=True)
 
 
 def section_warm(designs: int, ref: float) -> None:
@@ -204,12 +231,16 @@ def main() -> None:
     p.add_argument("--workers", type=int, default=2)
     p.add_argument("--run-de", action="store_true")
     p.add_argument("--de-seconds", type=float, default=600.0)
+    p.add_argument("--speed-designs", type=int, default=50_000)
+    p.add_argument("--repeat", type=int, default=2)
     a = p.parse_args()
     ref = analyze_summary_time()
     print(f"one `mechsketch analyze fourbar_crank_rocker.json --summary`: {ref:.3f} s (median of 5) [{load()}]")
     sections = a.section.split(",")
     if "atlas" in sections:
         section_atlas(a.designs, a.workers, ref)
+    if "atlas-speed" in sections:
+        section_atlas_speed(a.speed_designs, a.repeat)
     if "exact" in sections:
         section_exact(ref)
     if "reachable" in sections:
