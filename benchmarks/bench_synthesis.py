@@ -118,26 +118,31 @@ def section_atlas(designs: int, workers: int, ref: float, tops: tuple[str, ...] 
 
 
 def section_atlas_speed(designs: int, repeat: int) -> None:
-    """Designs per second of the atlas build: the studies engine (default) against the closed form."""
-    print(f"atlas build speed, {designs:,} designs per topology, this process: studies engine vs closed form "
-          f"(alternated, {repeat} runs each)")
-    build_atlas("fourbar", 2000, solver=closed_form_solver)   # numba's resampling compiled before timing
+    """Designs per second of the atlas build: the studies engine (its fused compiled loop, the
+    default from FUSED_DESIGNS designs on, and its numpy path) against the closed form."""
+    from mechsketch.core.design.atlas_engine import engine_solver, fused_engine_solver
+
+    solvers = (("engine fused", fused_engine_solver), ("engine numpy", engine_solver), ("closed form", closed_form_solver))
+    print(f"atlas build speed, {designs:,} designs per topology, this process, alternated {repeat}×; compilation "
+          "done before timing")
     for top in ATLAS_TOPS:
-        rates: dict[str, list[float]] = {"engine": [], "closed": []}
+        for _, solver in solvers:
+            build_atlas(top, 500, solver=solver, chunk=4096)      # numba compiled (and cached) before timing
+        rates: dict[str, list[float]] = {name: [] for name, _ in solvers}
         built = {}
         for _ in range(repeat):
-            for name, solver in (("engine", None), ("closed", closed_form_solver)):
+            for name, solver in solvers:
                 t0 = time.perf_counter()
                 built[name] = build_atlas(top, designs, solver=solver)
                 rates[name].append(designs / (time.perf_counter() - t0))
-        e, c = built["engine"], built["closed"]
-        same = np.array_equal(e.shape, c.shape)
-        desc = float(np.max(np.abs(np.asarray(e.desc, float) - np.asarray(c.desc, float))))
-        ratio = [a / b for a, b in zip(rates["engine"], rates["closed"])]
-        print(f"  {top}: engine {min(rates['engine']):,.0f}-{max(rates['engine']):,.0f} designs/s, closed form "
-              f"{min(rates['closed']):,.0f}-{max(rates['closed']):,.0f} designs/s; engine/closed "
-              f"{min(ratio):.2f}-{max(ratio):.2f}×; same designs: {same}, largest descriptor difference "
-              f"{desc:.1e} (float16 storage) [{load()}]", flush=True)
+        same = all(np.array_equal(getattr(built["engine fused"], k), getattr(built[name], k))
+                   for name, _ in solvers for k in ("shape", "points", "desc", "func", "turns", "mu"))
+        text = ", ".join(f"{name} {min(r):,.0f}-{max(r):,.0f}" for name, r in rates.items())
+        ratio = [a / b for a, b in zip(rates["engine fused"], rates["closed form"])]
+        ratio2 = [a / b for a, b in zip(rates["engine numpy"], rates["closed form"])]
+        print(f"  {top}: designs/s {text}; engine fused / closed form {min(ratio):.2f}-{max(ratio):.2f}×, engine "
+              f"numpy / closed form {min(ratio2):.2f}-{max(ratio2):.2f}×; the three atlases bit-identical: {same} "
+              f"[{load()}]", flush=True)
 
 
 def section_warm(designs: int, ref: float) -> None:

@@ -35,7 +35,7 @@ import numpy as np
 
 from ..studies.execute import StudyCancelled, connect, run_tasks
 from . import families as F
-from .atlas_engine import engine_solver
+from .atlas_engine import engine_solver, fused_engine_solver
 from .atlas_store import (DEFAULT_DESIGNS, FUNC_HARMONICS, MIN_MU_DEG, POINTS, SAMPLES, SPECS, VERSION, VERSION_CHANGES,
                           Atlas, atlas_folder, family_params, read_atlas, read_meta, save_atlas)
 from .descriptors import DESC_DIM, fourier_descriptor
@@ -43,6 +43,9 @@ from .targets import Cancelled, DesignError, Progress, report
 
 #: designs drawn per chunk (before screening)
 CHUNK = 32_768   # a power of 2: the Sobol sequence keeps its balance per chunk
+#: atlases of this many designs or more are solved on the engine's fused compiled loop (its
+#: compilation, seconds per topology, pays for itself; smaller ones, the tests', use numpy)
+FUSED_DESIGNS = 100_000
 
 
 @dataclass
@@ -316,8 +319,9 @@ def build_atlas(topology: str, designs: int, seed: int = 0, progress: Progress |
     """An atlas of ``designs`` designs of ``topology`` (see the module docstring), solved by the
     studies engine (:func:`~.atlas_engine.engine_solver`; ``solver``: another, e.g.
     :func:`closed_form_solver`). The chunks run as tasks of the studies engine's runner
-    (:func:`~mechsketch.core.studies.execute.run_tasks`): in this process (``workers`` threads)
-    or on the Dask cluster of ``client`` (a ``distributed.Client`` or a scheduler address), in
+    (:func:`~mechsketch.core.studies.execute.run_tasks`; from :data:`FUSED_DESIGNS` designs on
+    its fused compiled loop, :func:`~.atlas_engine.fused_engine_solver`): in this process
+    (``workers`` threads) or on the Dask cluster of ``client`` (a ``distributed.Client`` or a scheduler address), in
     rounds sized from the share of designs that passed so far; the atlas is chunks 0, 1, ... in
     order, cut at ``designs``, so it is the same bits whoever ran which chunk. ``progress``
     (fraction, message) may return True to cancel, as may ``cancel`` (an Event or a callable):
@@ -326,7 +330,7 @@ def build_atlas(topology: str, designs: int, seed: int = 0, progress: Progress |
         raise DesignError(f"no atlas for topology {topology!r} (atlases: {', '.join(SPECS)})")
     if designs < 1:
         raise DesignError(f"an atlas needs at least one design, got {designs}")
-    solve = solver or engine_solver
+    solve = solver or (fused_engine_solver if designs >= FUSED_DESIGNS else engine_solver)
     start = time.perf_counter()
     if client is not None:
         client = connect(client)
@@ -346,7 +350,8 @@ def build_atlas(topology: str, designs: int, seed: int = 0, progress: Progress |
 
 
 #: how the meta data names the solvers
-SOLVER_NAMES = {"engine_solver": "studies engine (solve_variants)", "closed_form_solver": "closed form"}
+SOLVER_NAMES = {"engine_solver": "studies engine (solve_variants)", "closed_form_solver": "closed form",
+                "fused_engine_solver": "studies engine (solve_variants, fused loop)"}
 
 
 _LOADED: dict[tuple[str, int], Atlas] = {}
@@ -400,5 +405,5 @@ def forget_loaded() -> None:
     _LOADED.clear()
 
 
-__all__ = ["CHUNK", "Chunk", "SOLVER_NAMES", "build_atlas", "closed_form_solver", "describe_chunk", "forget_loaded",
-           "load_atlas", "older_atlas", "screen", "sixbar_lengths", "slider_lengths", "solve_chunk"]
+__all__ = ["CHUNK", "Chunk", "FUSED_DESIGNS", "SOLVER_NAMES", "build_atlas", "closed_form_solver", "describe_chunk",
+           "forget_loaded", "load_atlas", "older_atlas", "screen", "sixbar_lengths", "slider_lengths", "solve_chunk"]

@@ -112,14 +112,17 @@ def _c(a: np.ndarray) -> np.ndarray:
     return a[..., 0] + 1j * a[..., 1]
 
 
-def engine_solver(topology: str, shape: np.ndarray, points: np.ndarray, theta: np.ndarray):
+def engine_solver(topology: str, shape: np.ndarray, points: np.ndarray, theta: np.ndarray, fast: bool = False):
     """Coupler points (D, P, N) complex, output (D, N), sin μ (D, N), assembled (D, N) of the
-    designs, solved by the studies engine (the atlas's :data:`~.atlas.Solver`)."""
+    designs, solved by the studies engine (the atlas's :data:`~.atlas.Solver`); ``fast``: by
+    its fused compiled loop where the plan has one (:func:`fused_engine_solver`), else its
+    numpy path (the same bits)."""
     n = len(theta)
     lk = template(topology, n)
     out_link = OUTPUT_LINK.get(topology, "rocker")
     wanted = [f"P{k + 1}" for k in range(POINTS)] + [j for j in ("B", "C", "E", "G", "H") if j in lk.joint_ids]
-    v = solve_variants(lk, _values(topology, shape, points), samples=n, order=0, joints=wanted, links=[out_link])
+    v = solve_variants(lk, _values(topology, shape, points), samples=n, order=0, joints=wanted, links=[out_link],
+                       fast=fast)
     P = np.stack([_c(v.position(f"P{k + 1}")) for k in range(POINTS)], axis=1)
     ok = v.valid & v.assembled[:, None]
     B, C = _c(v.position("B")), _c(v.position("C"))
@@ -146,4 +149,12 @@ def engine_solver(topology: str, shape: np.ndarray, points: np.ndarray, theta: n
     return P, out, sin_mu, ok
 
 
-__all__ = ["OUTPUT_LINK", "engine_solver", "template"]
+def fused_engine_solver(topology: str, shape: np.ndarray, points: np.ndarray, theta: np.ndarray):
+    """:func:`engine_solver` on the studies engine's fused compiled loop (numba; crank-driven RRR
+    and RRP groups: all but the inverted slider-crank, which stays on the numpy path): the same
+    bits, about three times faster on a six-bar once compiled (compiled once per topology and
+    cached on disk), so the large atlases use it."""
+    return engine_solver(topology, shape, points, theta, fast=True)
+
+
+__all__ = ["OUTPUT_LINK", "engine_solver", "fused_engine_solver", "template"]

@@ -123,3 +123,12 @@ def test_an_older_cached_atlas_is_named_and_rebuilt(tmp_path, monkeypatch):
     assert atlas.meta["version"] == VERSION and "replaces" in atlas.meta
     assert (atlas_folder("slider_crank", 1000) / "meta.json").exists()
     AT.forget_loaded()
+
+
+def test_the_fused_loop_gives_the_numpy_path_bits():
+    from mechsketch.core.design.atlas_engine import fused_engine_solver
+
+    a = AT.describe_chunk("sixbar_slider", 2, 0, 2048)
+    b = AT.describe_chunk("sixbar_slider", 2, 0, 2048, solver=fused_engine_solver)
+    for name in ARRAYS + ("drawn",):
+        assert np.array_equal(a[name], b[name]), name
