@@ -122,7 +122,8 @@ def section_atlas_speed(designs: int, repeat: int) -> None:
     default from FUSED_DESIGNS designs on, and its numpy path) against the closed form."""
     from mechsketch.core.design.atlas_engine import engine_solver, fused_engine_solver
 
-    solvers = (("engine fused", fused_engine_solver), ("engine numpy", engine_solver), ("closed form", closed_form_solver))
+    solvers = (("engine fused", fused_engine_solver), ("engine numpy", engine_solver),
+               ("closed form", closed_form_solver))
     print(f"atlas build speed, {designs:,} designs per topology, this process, alternated {repeat}×; compilation "
           "done before timing")
     for top in ATLAS_TOPS:
