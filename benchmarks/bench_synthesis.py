@@ -60,8 +60,8 @@ from mechsketch.core.design.targets import function_target, path_target, pose_ta
 
 REFERENCE = HERE / "synthesis_de_reference.json"
 TOPS = ("fourbar", "slider_crank", "inverted_slider_crank", "sixbar")
-#: every atlas (the path synthesis's "sixbar" uses all four six-bars)
-ATLAS_TOPS = TOPS + ("watt_sixbar", "sixbar_slider", "watt_sixbar_slider")
+#: every atlas (the path synthesis's "sixbar" uses all six six-bars)
+ATLAS_TOPS = TOPS + ("watt_sixbar", "sixbar_slider", "watt_sixbar_slider", "sixbar_guide", "watt_sixbar_guide")
 
 
 def load() -> str:

@@ -163,6 +163,24 @@ def slider_lengths(shape: np.ndarray, points: np.ndarray, min_mu_deg: float = MI
     return shape, points * l1[:, None, None], ok
 
 
+def guide_lengths(shape: np.ndarray, points: np.ndarray, min_mu_deg: float = MIN_MU_DEG, watt: bool = False
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Drawn six-bars with a guided rocker (a, b, c, E in units of b — of c on a Watt —, F, the
+    guide's offset as a fraction −1..1) made concrete: the offset e is that fraction of
+    r_min·cos(μ_min + 2°), r_min the least distance |E − F| over the turn (so that the block's
+    transmission angle, acos(|e|/|E − F|), stays above the minimum); the coupler points are
+    scaled by r_min. Returns (shape (n, 8), points, kept (n,) bool)."""
+    shape = shape.copy()
+    unit = shape[:, 2] if watt else shape[:, 1]
+    shape[:, 3] *= unit
+    shape[:, 4] *= unit
+    E, ok = _sixbar_e(shape, watt)
+    rmin = np.abs(E - (shape[:, 5] + 1j * shape[:, 6])[:, None]).min(axis=1)
+    ok &= rmin > 1e-3
+    shape[:, 7] = np.where(ok, shape[:, 7] * rmin * math.cos(math.radians(min_mu_deg + 2.0)), np.nan)
+    return shape, points * rmin[:, None, None], ok
+
+
 def _sixbar_e(shape: np.ndarray, watt: bool) -> tuple[np.ndarray, np.ndarray]:
     """(n, 48) the point E over one turn of the six-bars ``shape`` (E in absolute units) and
     (n,) whether their four-bar assembles all the turn."""
@@ -184,6 +202,8 @@ def closed_form_solver(topology: str, shape: np.ndarray, points: np.ndarray, the
     B = ev.joints["B"]
     if topology == F.INVERTED:
         frame = ev.joints["u"]
+    elif topology in F.GUIDE_SIXBARS:     # the block's frame: its guide
+        B, frame = ev.joints["E"], ev.joints["u"]
     elif topology in F.ALL_SIXBARS:
         B = ev.joints["E"]
         frame = (ev.joints["G"] - B) / shape[:, 7][:, None]
@@ -207,7 +227,8 @@ def describe_chunk(topology: str, index: int, seed: int = 0, chunk: int = CHUNK,
     rows = np.flatnonzero(screen(topology, shape, min_mu_deg))
     shape, points = shape[rows], points[rows]
     if topology in F.ALL_SIXBARS:
-        lengths = slider_lengths if topology in F.SLIDER_SIXBARS else sixbar_lengths
+        lengths = (slider_lengths if topology in F.SLIDER_SIXBARS else
+                   guide_lengths if topology in F.GUIDE_SIXBARS else sixbar_lengths)
         shape, points, keep = lengths(shape, points, min_mu_deg, topology in F.WATTS)
         shape, points, rows = shape[keep], points[keep], rows[keep]
     theta = 2 * math.pi * np.arange(SAMPLES) / SAMPLES
@@ -406,4 +427,4 @@ def forget_loaded() -> None:
 
 
 __all__ = ["CHUNK", "Chunk", "FUSED_DESIGNS", "SOLVER_NAMES", "build_atlas", "closed_form_solver", "describe_chunk",
-           "forget_loaded", "load_atlas", "older_atlas", "screen", "sixbar_lengths", "slider_lengths", "solve_chunk"]
+           "forget_loaded", "guide_lengths", "load_atlas", "older_atlas", "screen", "sixbar_lengths", "slider_lengths", "solve_chunk"]

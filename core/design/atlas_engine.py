@@ -42,10 +42,13 @@ _TEMPLATE_SHAPE = {
     # the slider's guide vertical through F, 10 units beside E; the rod 20 long
     F.SIXBAR_SLIDER: [0.3, 1.2, 1.0, 0.6, FAR, None, None, 20.0, math.pi / 2],
     F.WATT_SLIDER: [0.3, 1.2, 1.0, 0.5, FAR, None, None, 20.0, math.pi / 2],
+    # the guided rocker's pivot F 30 units beside E, its guide at offset 2
+    F.SIXBAR_GUIDE: [0.3, 1.2, 1.0, 0.6, FAR, None, None, 2.0],
+    F.WATT_GUIDE: [0.3, 1.2, 1.0, 0.5, FAR, None, None, 2.0],
 }
 #: the output link of each topology
 OUTPUT_LINK = {F.SLIDER_CRANK: "slider", F.SIXBAR: "rocker2", F.WATT: "rocker2", F.SIXBAR_SLIDER: "slider",
-               F.WATT_SLIDER: "slider"}
+               F.WATT_SLIDER: "slider", F.SIXBAR_GUIDE: "rocker2", F.WATT_GUIDE: "rocker2"}
 _POINTS = np.array([[0.0, FAR], [0.0, -FAR]])   # x: half the link's length is added
 
 
@@ -66,7 +69,8 @@ def template(topology: str, samples: int) -> Linkage:
     ev = F.evaluate(topology, x[None], np.zeros((1, 1)), 1.0)
     B = ev.joints["E" if topology in F.ALL_SIXBARS else "B"][0, 0]
     extra = []
-    if topology == F.INVERTED:   # a helper joint H one unit along the guide: the block's frame is the guide's
+    if topology == F.INVERTED or topology in F.GUIDE_SIXBARS:   # a helper joint H one unit along the guide:
+        # the block's frame is the guide's
         frame, half = ev.joints["u"][0, 0], 0.0
         extra = [Joint("H", JointKind.R, ((B + frame).real, (B + frame).imag))]
     elif topology in F.ALL_SIXBARS:
@@ -91,6 +95,11 @@ def _values(topology: str, shape: np.ndarray, points: np.ndarray) -> dict[str, n
         v = {"length:coupler:B:C": shape[:, 1], "offset:ground:S": -shape[:, 0]}
     elif topology == F.INVERTED:
         v = {"length:crank:A:B": shape[:, 0], "offset:rocker:Q": -shape[:, 1]}
+    elif topology in F.GUIDE_SIXBARS:    # the guide's offset from F, then F moved
+        host = "rocker" if topology in F.WATTS else "connector"
+        v = {"length:crank:A:B": shape[:, 0], "length:connector:B:C": shape[:, 1], "length:rocker:D:C": shape[:, 2],
+             f"point:{host}:E:x": shape[:, 3], f"point:{host}:E:y": shape[:, 4], "offset:rocker2:Q": -shape[:, 7],
+             "x:F": shape[:, 5], "y:F": shape[:, 6]}
     elif topology in F.SLIDER_SIXBARS:   # the guide turned to g, then moved through F
         host = "rocker" if topology in F.WATTS else "connector"
         v = {"length:crank:A:B": shape[:, 0], "length:connector:B:C": shape[:, 1], "length:rocker:D:C": shape[:, 2],
@@ -136,7 +145,12 @@ def engine_solver(topology: str, shape: np.ndarray, points: np.ndarray, theta: n
         else:
             out = v.angle(out_link)
             sin_mu = np.abs(np.imag(np.conj(C - B) * (C - 1.0))) / (shape[:, 1:2] * shape[:, 2:3])
-            if topology in F.ALL_SIXBARS:
+            if topology in F.GUIDE_SIXBARS:      # the guide's direction; the block's transmission
+                E = _c(v.position("E"))
+                out = np.angle(_c(v.position("H")) - E)
+                r2 = np.abs(E - (shape[:, 5] + 1j * shape[:, 6])[:, None]) ** 2
+                sin_mu = np.minimum(sin_mu, np.sqrt(np.maximum(1.0 - shape[:, 7:8] ** 2 / r2, 0.0)))
+            elif topology in F.ALL_SIXBARS:
                 E, G = _c(v.position("E")), _c(v.position("G"))
                 Fp = (shape[:, 5] + 1j * shape[:, 6])[:, None]
                 if topology in F.SLIDER_SIXBARS:     # the slider's place on its guide, from F; the rod's angle

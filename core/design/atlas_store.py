@@ -29,7 +29,8 @@ from .descriptors import DESC_DIM
 VERSION = 2
 #: what each format version changed (the message when an older cached atlas is rebuilt)
 VERSION_CHANGES = {1: "closed-form build",
-                   2: "built by the studies engine's batch kernels; six-bars with a slider dyad added"}
+                   2: "built by the studies engine's batch kernels; six-bars with a slider (RRP) or a guided "
+                      "rocker (RPR) as the second dyad added"}
 #: coupler points per design
 POINTS = 2
 #: crank-angle samples per turn when building
@@ -47,7 +48,9 @@ SMALL_DESIGNS = 20_000
 class Spec:
     """How a topology is sampled: ``names`` of its shape parameters, their ``ranges`` (lo, hi)
     and whether each is sampled ``log``-uniformly; the coupler point's box (u, v ranges, in
-    units of ``point_unit``: "b" the coupler length, "1" the frame's unit)."""
+    units of ``point_unit``: "b" the coupler length, "1" the frame's unit, "l1" a six-bar's
+    rod, "r" the least distance of a guided rocker's pivot from E; the last two set by
+    :func:`~.atlas.sixbar_lengths`, :func:`~.atlas.slider_lengths`, :func:`~.atlas.guide_lengths`)."""
 
     names: tuple[str, ...]
     ranges: tuple[tuple[float, float], ...]
@@ -85,6 +88,17 @@ SPECS: dict[str, Spec] = {
                         ((0.12, 1.0), (0.3, 3.0), (0.3, 3.0), (-0.5, 1.5), (-1.0, 1.0), (-1.5, 2.5), (-2.0, 2.0),
                          (0.0, 1.0), (0.0, math.pi)),
                         (True, True, True, False, False, False, False, False, False), (-0.5, 1.5), (-1.0, 1.0), "l1"),
+    # with a guided rocker (RPR) as the second dyad: a, b, c, E (units of b; of c on a Watt), the
+    # rocker's pivot F and the guide's offset as a fraction −1..1 of the largest it may have
+    # (:func:`~.atlas.guide_lengths`); the points in units of the least distance |E − F|
+    F.SIXBAR_GUIDE: Spec(("a", "b", "c", "ex", "ey", "Fx", "Fy", "e"),
+                         ((0.12, 1.0), (0.3, 3.0), (0.3, 3.0), (-0.5, 1.5), (-1.0, 1.0), (-1.5, 2.5), (-2.0, 2.0),
+                          (-1.0, 1.0)),
+                         (True, True, True, False, False, False, False, False), (-1.0, 1.0), (-1.0, 1.0), "r"),
+    F.WATT_GUIDE: Spec(("a", "b", "c", "ex", "ey", "Fx", "Fy", "e"),
+                       ((0.12, 1.0), (0.3, 3.0), (0.3, 3.0), (-0.5, 1.5), (-1.0, 1.0), (-1.5, 2.5), (-2.0, 2.0),
+                        (-1.0, 1.0)),
+                       (True, True, True, False, False, False, False, False), (-1.0, 1.0), (-1.0, 1.0), "r"),
 }
 
 

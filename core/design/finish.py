@@ -57,7 +57,7 @@ def fixed_pivots(topology: str, x: np.ndarray) -> np.ndarray:
     """(2,) or (1,) the design's pivots on the frame (complex mm)."""
     if topology == F.SLIDER_CRANK:
         return np.array([x[0] + 1j * x[1]])
-    if topology in F.SIXBARS:
+    if topology in F.SIXBARS + F.GUIDE_SIXBARS:
         return np.array([x[0] + 1j * x[1], x[2] + 1j * x[3], x[9] + 1j * x[10]])
     if topology in F.SLIDER_SIXBARS:     # F is any point of the slider's guide: not a pivot
         return np.array([x[0] + 1j * x[1], x[2] + 1j * x[3]])

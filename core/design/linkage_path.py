@@ -36,7 +36,7 @@ from .targets import DesignError, PathTarget, Progress, report
 
 TOPOLOGIES = (F.FOURBAR, F.SLIDER_CRANK, F.INVERTED) + F.ALL_SIXBARS
 #: what --topology takes: "sixbar" means every six-bar (Stephenson III and Watt II, their second
-#: dyad an RRR or a slider's RRP)
+#: dyad an RRR, a slider's RRP or a guided rocker's RPR)
 CHOICES = (F.FOURBAR, F.SLIDER_CRANK, F.INVERTED, F.SIXBAR, "any")
 #: starts refined per topology
 STARTS = 32

@@ -2,7 +2,7 @@
 the closed form of core/design/families.py (the build before atlas format v2):
 
 - every design's coupler points, output and transmission angle agree to 1e-12 of the size, for
-  all seven topologies (the six-bars with a slider included);
+  all nine topologies (the six-bars with a slider or a guided rocker included);
 - a chunk built on the engine admits the same designs as the closed form's, with descriptors and
   output harmonics equal to 1e-12 (float64, before the atlas's float16 storage), and a whole
   small atlas is the closed form's bit for bit once stored;
@@ -27,7 +27,7 @@ from mechsketch.core.design.atlas_store import VERSION, atlas_folder
 from mechsketch.core.design.targets import Cancelled
 
 TOPOLOGIES = ("fourbar", "slider_crank", "inverted_slider_crank", "sixbar", "watt_sixbar", "sixbar_slider",
-              "watt_sixbar_slider")
+              "watt_sixbar_slider", "sixbar_guide", "watt_sixbar_guide")
 ARRAYS = ("shape", "points", "desc", "func", "turns", "mu")
 
 
@@ -36,7 +36,8 @@ def _designs(topology: str, n: int = 200):
     keep = AT.screen(topology, shape)
     shape, points = shape[keep], points[keep]
     if topology in F.ALL_SIXBARS:
-        lengths = AT.slider_lengths if topology in F.SLIDER_SIXBARS else AT.sixbar_lengths
+        lengths = (AT.slider_lengths if topology in F.SLIDER_SIXBARS else
+                   AT.guide_lengths if topology in F.GUIDE_SIXBARS else AT.sixbar_lengths)
         shape, points, ok = lengths(shape, points, watt=topology in F.WATTS)
         shape, points = shape[ok], points[ok]
     return shape[:n], points[:n]
@@ -73,7 +74,7 @@ def test_engine_chunk_admits_the_same_designs_with_the_same_descriptors(topology
     assert np.max(np.abs(a["mu"] - b["mu"])) <= 1e-9        # degrees
 
 
-@pytest.mark.parametrize("topology", ["fourbar", "sixbar", "sixbar_slider"])
+@pytest.mark.parametrize("topology", ["fourbar", "sixbar", "sixbar_slider", "watt_sixbar_guide"])
 def test_engine_atlas_is_the_closed_form_atlas(topology):
     a = AT.build_atlas(topology, 300, chunk=2048, solver=AT.closed_form_solver)
     b = AT.build_atlas(topology, 300, chunk=2048)
