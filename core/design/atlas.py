@@ -43,6 +43,9 @@ from .targets import Cancelled, DesignError, Progress, report
 
 #: designs drawn per chunk (before screening)
 CHUNK = 32_768   # a power of 2: the Sobol sequence keeps its balance per chunk
+#: screened designs solved per call of the solver (a chunk stops once it has what is wanted);
+#: part of the atlas format: numpy's last bits may depend on an array's length
+SLICE = 8192
 #: atlases of this many designs or more are solved on the engine's fused compiled loop (its
 #: compilation, seconds per topology, pays for itself; smaller ones, the tests', use numpy)
 FUSED_DESIGNS = 100_000
@@ -215,14 +218,15 @@ def closed_form_solver(topology: str, shape: np.ndarray, points: np.ndarray, the
 
 
 def describe_chunk(topology: str, index: int, seed: int = 0, chunk: int = CHUNK, min_mu_deg: float = MIN_MU_DEG,
-                   solver: Solver | None = None) -> dict[str, np.ndarray]:
+                   solver: Solver | None = None, limit: int | None = None) -> dict[str, np.ndarray]:
     """Chunk ``index`` of the atlas in float64: draw, screen, solve (``solver``, default the
     studies engine's :func:`~.atlas_engine.engine_solver`), keep, describe. Returns the kept
     designs' ``shape`` (K, S), ``points`` (K, P, 2), ``desc`` (K·P, DESC_DIM), ``func``
     (K, 2·H + 1), ``turns`` (K,), ``mu`` (K,) °, and ``drawn`` (the indices, among the
-    chunk's draws, of the kept designs)."""
-    if solver is None:
-        solver = engine_solver
+    chunk's draws, of the kept designs). ``limit``: stop once that many are kept (the screened
+    designs are solved :data:`SLICE` at a time, in order; each design's numbers do not depend
+    on the others', so the first ``limit`` are those of the whole chunk)."""
+    solver = solver or engine_solver
     shape, points = _draw(topology, index * chunk, chunk, seed)
     rows = np.flatnonzero(screen(topology, shape, min_mu_deg))
     shape, points = shape[rows], points[rows]
@@ -232,22 +236,31 @@ def describe_chunk(topology: str, index: int, seed: int = 0, chunk: int = CHUNK,
         shape, points, keep = lengths(shape, points, min_mu_deg, topology in F.WATTS)
         shape, points, rows = shape[keep], points[keep], rows[keep]
     theta = 2 * math.pi * np.arange(SAMPLES) / SAMPLES
-    curves, out, sin_mu, good = solver(topology, shape, points, theta)
-    ok = good.all(axis=1) & np.isfinite(curves).all(axis=(1, 2))
-    mu = np.degrees(np.arcsin(np.clip(np.min(np.where(good, sin_mu, 0.0), axis=1), 0.0, 1.0)))
-    ok &= mu >= min_mu_deg
-    curves, out, mu = curves[ok], out[ok], mu[ok]
-    desc = fourier_descriptor(curves, compiled=True).reshape(-1, DESC_DIM)
+    parts, kept = [], 0
+    for lo in range(0, len(rows), SLICE):
+        sl = slice(lo, lo + SLICE)
+        curves, out, sin_mu, good = solver(topology, shape[sl], points[sl], theta)
+        ok = good.all(axis=1) & np.isfinite(curves).all(axis=(1, 2))
+        mu = np.degrees(np.arcsin(np.clip(np.min(np.where(good, sin_mu, 0.0), axis=1), 0.0, 1.0)))
+        ok &= mu >= min_mu_deg
+        parts.append((np.flatnonzero(ok) + lo, curves[ok], out[ok], mu[ok]))
+        kept += int(ok.sum())
+        if limit is not None and kept >= limit:
+            break
+    at = np.concatenate([p[0] for p in parts]) if parts else np.zeros(0, int)
+    curves = np.concatenate([p[1] for p in parts]) if parts else np.zeros((0, POINTS, SAMPLES), complex)
+    out = np.concatenate([p[2] for p in parts]) if parts else np.zeros((0, SAMPLES))
+    desc = fourier_descriptor(curves, compiled=True, min_rows=0).reshape(-1, DESC_DIM)
     func, turns = _harmonics(topology, out, theta)
-    return {"shape": shape[ok], "points": points[ok], "desc": desc, "func": func, "turns": turns, "mu": mu,
-            "drawn": rows[ok]}
+    return {"shape": shape[at], "points": points[at], "desc": desc, "func": func, "turns": turns,
+            "mu": np.concatenate([p[3] for p in parts]) if parts else np.zeros(0), "drawn": rows[at]}
 
 
 def solve_chunk(topology: str, index: int, seed: int = 0, chunk: int = CHUNK, min_mu_deg: float = MIN_MU_DEG,
-                solver: Solver | None = None) -> Chunk:
+                solver: Solver | None = None, limit: int | None = None) -> Chunk:
     """Chunk ``index`` of the atlas as stored (:func:`describe_chunk` in the atlas's dtypes; a
     pure function of its arguments: a Dask task)."""
-    c = describe_chunk(topology, index, seed, chunk, min_mu_deg, solver)
+    c = describe_chunk(topology, index, seed, chunk, min_mu_deg, solver, limit)
     return Chunk(c["shape"].astype(np.float32), c["points"].astype(np.float32), c["desc"].astype(np.float16),
                  c["func"].astype(np.float16), c["turns"].astype(np.int8), c["mu"].astype(np.float16), chunk)
 
@@ -281,11 +294,13 @@ class _Round:
     solver: Solver
     min_mu_deg: float
     nonce: str
+    #: designs still wanted: no chunk of the round need keep more (:func:`describe_chunk`)
+    limit: int | None = None
 
 
 def _chunk_task(ctx: _Round, i: int) -> Chunk:
     """Chunk ``ctx.first + i`` of the atlas (a task of :func:`~mechsketch.core.studies.execute.run_tasks`)."""
-    return solve_chunk(ctx.topology, ctx.first + i, ctx.seed, ctx.chunk, ctx.min_mu_deg, ctx.solver)
+    return solve_chunk(ctx.topology, ctx.first + i, ctx.seed, ctx.chunk, ctx.min_mu_deg, ctx.solver, ctx.limit)
 
 
 def _cluster_size(client) -> int:
@@ -319,7 +334,7 @@ def _gather_chunks(job: _Round, designs: int, client, lanes: int, progress: Prog
             shown[0] = max(shown[0], min(est / designs, 0.999))      # an estimate: never shown going back
             asked[0] = asked[0] or bool(progress is not None and progress(shown[0], msg))
 
-        ctx = replace(job, first=index, nonce=uuid.uuid4().hex)
+        ctx = replace(job, first=index, nonce=uuid.uuid4().hex, limit=designs - have)
         try:
             got = run_tasks(_chunk_task, ctx, n, client=client, workers=lanes if client is None else 1,
                             progress=tick, cancel=lambda: asked[0] or _stop(cancel))
@@ -426,5 +441,6 @@ def forget_loaded() -> None:
     _LOADED.clear()
 
 
-__all__ = ["CHUNK", "Chunk", "FUSED_DESIGNS", "SOLVER_NAMES", "build_atlas", "closed_form_solver", "describe_chunk",
-           "forget_loaded", "guide_lengths", "load_atlas", "older_atlas", "screen", "sixbar_lengths", "slider_lengths", "solve_chunk"]
+__all__ = ["CHUNK", "Chunk", "FUSED_DESIGNS", "SLICE", "SOLVER_NAMES", "build_atlas", "closed_form_solver",
+           "describe_chunk", "forget_loaded", "guide_lengths", "load_atlas", "older_atlas", "screen", "sixbar_lengths",
+           "slider_lengths", "solve_chunk"]

@@ -133,3 +133,17 @@ def test_the_fused_loop_gives_the_numpy_path_bits():
     b = AT.describe_chunk("sixbar_slider", 2, 0, 2048, solver=fused_engine_solver)
     for name in ARRAYS + ("drawn",):
         assert np.array_equal(a[name], b[name]), name
+
+
+def test_a_chunk_cut_at_its_limit_is_the_start_of_the_whole_chunk(monkeypatch):
+    # many slices, so that the cut falls inside the chunk (the slices are the same either way:
+    # numpy's rounding may depend on an array's length, so the slicing is part of the format)
+    monkeypatch.setattr(AT, "SLICE", 128)
+    whole = AT.describe_chunk("watt_sixbar", 0, 0, 4096, solver=AT.closed_form_solver)
+    assert len(whole["drawn"]) > 400
+    part = AT.describe_chunk("watt_sixbar", 0, 0, 4096, solver=AT.closed_form_solver, limit=300)
+    k = len(part["drawn"])
+    assert 300 <= k < len(whole["drawn"])
+    for name in ARRAYS + ("drawn",):
+        w = whole[name][: k * 2] if name == "desc" else whole[name][:k]
+        assert np.array_equal(part[name], w), name
