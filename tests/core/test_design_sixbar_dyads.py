@@ -164,11 +164,18 @@ def test_known_sixbar_with_a_slider_is_recovered(atlas_cache, topology):
     assert ("slider" if topology in F.SLIDER_SIXBARS else "guided rocker") in best.kind
 
 
-def test_command_line_returns_a_sixbar_with_a_slider_that_validates_and_exports(atlas_cache, tmp_path, capsys):
+def test_command_line_returns_a_sixbar_with_a_slider_that_validates_and_exports(atlas_cache, tmp_path, capsys,
+                                                                                monkeypatch):
+    import functools
+
     import ezdxf
 
     from mechsketch.core.cli import main
+    from mechsketch.core.design import linkage_path
     from mechsketch.core.io.scene_file import load_scene
+
+    # 8 starts per six-bar instead of 32: the command is what is tested here, not the search's effort
+    monkeypatch.setattr(linkage_path, "synthesize_path", functools.partial(synthesize_path, starts=8))
 
     th = np.linspace(0.2, 0.2 + 2 * math.pi, 40, endpoint=False)
     _, P = _known(F.SIXBAR_SLIDER, th)
