@@ -168,7 +168,12 @@ def _reachable(top: str) -> np.ndarray:
                 "slider_crank": ([0, 0, 0.2, 15, 40, 130, 50, -30.0], 1.0),
                 "inverted_slider_crank": ([0, 0, 100, 0, 45, 12, 40, 25.0], -1.0),
                 "sixbar": ([0, 0, 100, 0, 13.35, 49.61, 84.37, 65.82, 35.68, 150.03, -51.48, 241.37, 129.35,
-                            -34.70, -210.73], 1.0)}[top]
+                            -34.70, -210.73], 1.0),
+                # the six-bars with a slider (RRP) and a guided rocker (RPR) of tests/core/test_design_sixbar_dyads.py
+                "sixbar_slider": ([0, 0, 100, 0, 13.35, 49.61, 84.37, 25.0, 35.68, 60.0, 20.0, 120.0,
+                                   math.radians(100.0), -34.70, 40.0], 1.0),
+                "sixbar_guide": ([0, 0, 100, 0, 13.35, 49.61, 84.37, 25.0, 35.68, 60.0, 20.0, 15.0, -34.70, 40.0],
+                                 1.0)}[top]
     th = np.linspace(0.3, 0.3 + 2 * math.pi, 40, endpoint=False)
     P = F.evaluate(top, np.array([x]), th[None], sigma).P[0]
     P = 0.7 * np.exp(1.2j) * P + (300 - 50j)
@@ -177,10 +182,10 @@ def _reachable(top: str) -> np.ndarray:
 
 def section_reachable(designs: int, ref: float) -> None:
     print("reachable targets (a known linkage's coupler curve moved, turned, scaled; 40 points); goal ≤ 1e-6")
-    for top in TOPS:
+    for top in TOPS + ("sixbar_slider", "sixbar_guide"):
         t = path_target(_reachable(top))
         t0 = time.perf_counter()
-        opts = LinkageOptions(candidates=1, min_transmission_deg=20, max_size=12 if top == "sixbar" else 5)
+        opts = LinkageOptions(candidates=1, min_transmission_deg=20, max_size=12 if top.startswith("sixbar") else 5)
         res = synthesize_path(t, opts, top, atlas_designs=designs)
         c = res.candidates[0]
         line(f"{top}", time.perf_counter() - t0, ref, f"max deviation {c.deviation / t.size:.2e} of the size "
