@@ -368,11 +368,16 @@ def build_atlas(topology: str, designs: int, seed: int = 0, progress: Progress |
         raise DesignError(f"an atlas needs at least one design, got {designs}")
     solve = solver or (fused_engine_solver if designs >= FUSED_DESIGNS else engine_solver)
     start = time.perf_counter()
+    own = isinstance(client, str)          # a scheduler address: our client, closed when done
     if client is not None:
         client = connect(client)
     lanes = _cluster_size(client) if client is not None else max(int(workers), 1)
-    parts = _gather_chunks(_Round(topology, seed, chunk, 0, solve, MIN_MU_DEG, ""), designs, client, lanes, progress,
-                           cancel)
+    try:
+        parts = _gather_chunks(_Round(topology, seed, chunk, 0, solve, MIN_MU_DEG, ""), designs, client, lanes,
+                               progress, cancel)
+    finally:
+        if own:
+            client.close()
     report(progress, 1.0, f"{topology} atlas: {designs:,} of {designs:,} designs")
     cat = {name: np.concatenate([getattr(c, name) for c in parts])[:designs] for name in
            ("shape", "points", "func", "turns", "mu")}
