@@ -7,6 +7,10 @@ Sections (``--section``, default all but the atlas build):
 - ``atlas``: build the atlas of each topology (``--designs``, default 1,000,000) from scratch in
   a temporary cache folder, in this process and on a Dask LocalCluster of ``--workers`` (default
   2) processes; time, designs drawn, disk size; the two builds compared bit for bit.
+- ``atlas-speed``: the build's speed in designs per second, the studies engine (the default
+  build, format v2) against the closed form of core/design/families.py (format v1), the same
+  ``--speed-designs`` (default 50,000) designs of each topology in this process, alternated
+  ``--repeat`` (default 2) times; the two atlases compared (same designs, descriptors).
 - ``warm``: with the four-bar atlas loaded (``--designs``; built first if missing) and its tree
   made, the time (and this process's CPU time) to K = 10 candidates for the unreachable targets
   (each stage timed: retrieval, refinement, the solver's drive checks, validate's cut check).
@@ -21,8 +25,8 @@ Sections (``--section``, default all but the atlas build):
 
 Usage::
 
-    .venv/bin/python benchmarks/bench_synthesis.py [--section warm,reachable,exact,unreachable,atlas]
-        [--designs 1000000] [--workers 2] [--run-de] [--de-seconds 600]
+    .venv/bin/python benchmarks/bench_synthesis.py [--section warm,reachable,exact,unreachable,atlas,atlas-speed]
+        [--designs 1000000] [--workers 2] [--run-de] [--de-seconds 600] [--speed-designs 50000] [--repeat 2]
 """
 from __future__ import annotations
 
@@ -46,7 +50,7 @@ sys.path.insert(0, str(HERE))
 from synthesis_de import MIN_MU_DEG, differential_evolution_reference, measure, targets  # noqa: E402
 
 from mechsketch.core.design import families as F  # noqa: E402
-from mechsketch.core.design.atlas import build_atlas, forget_loaded, load_atlas  # noqa: E402
+from mechsketch.core.design.atlas import build_atlas, closed_form_solver, forget_loaded, load_atlas  # noqa: E402
 from mechsketch.core.design.atlas_store import atlas_folder, disk_bytes, save_atlas  # noqa: E402
 from mechsketch.core.design.function import synthesize_function  # noqa: E402
 from mechsketch.core.design.linkage_path import synthesize_path  # noqa: E402
@@ -56,8 +60,8 @@ from mechsketch.core.design.targets import function_target, path_target, pose_ta
 
 REFERENCE = HERE / "synthesis_de_reference.json"
 TOPS = ("fourbar", "slider_crank", "inverted_slider_crank", "sixbar")
-#: every atlas (the path synthesis's "sixbar" uses both six-bars)
-ATLAS_TOPS = TOPS + ("watt_sixbar",)
+#: every atlas (the path synthesis's "sixbar" uses all six six-bars)
+ATLAS_TOPS = TOPS + ("watt_sixbar", "sixbar_slider", "watt_sixbar_slider", "sixbar_guide", "watt_sixbar_guide")
 
 
 def load() -> str:
@@ -88,7 +92,7 @@ def section_atlas(designs: int, workers: int, ref: float, tops: tuple[str, ...] 
     sections read it), then again on a Dask LocalCluster of ``workers`` processes (compared
     with the first bit for bit, not stored). The in-process build's CPU seconds are printed
     too: on a loaded machine they, divided by the cores, bound what a quiet machine takes."""
-    print(f"atlas build, {designs:,} designs per topology (closed-form batch solver; numba resampling)")
+    print(f"atlas build, {designs:,} designs per topology (the studies engine's batch kernels; numba resampling)")
     for top in tops:
         t0, c0 = time.perf_counter(), time.process_time()
         atlas = build_atlas(top, designs)
@@ -113,6 +117,35 @@ def section_atlas(designs: int, workers: int, ref: float, tops: tuple[str, ...] 
                  f"{one / many:.2f}× one process; bit-identical: {same}")
 
 
+def section_atlas_speed(designs: int, repeat: int) -> None:
+    """Designs per second of the atlas build: the studies engine (its fused compiled loop, the
+    default from FUSED_DESIGNS designs on, and its numpy path) against the closed form."""
+    from mechsketch.core.design.atlas_engine import engine_solver, fused_engine_solver
+
+    solvers = (("engine fused", fused_engine_solver), ("engine numpy", engine_solver),
+               ("closed form", closed_form_solver))
+    print(f"atlas build speed, {designs:,} designs per topology, this process, alternated {repeat}×; compilation "
+          "done before timing")
+    for top in ATLAS_TOPS:
+        for _, solver in solvers:
+            build_atlas(top, 500, solver=solver, chunk=4096)      # numba compiled (and cached) before timing
+        rates: dict[str, list[float]] = {name: [] for name, _ in solvers}
+        built = {}
+        for _ in range(repeat):
+            for name, solver in solvers:
+                t0 = time.perf_counter()
+                built[name] = build_atlas(top, designs, solver=solver)
+                rates[name].append(designs / (time.perf_counter() - t0))
+        same = all(np.array_equal(getattr(built["engine fused"], k), getattr(built[name], k))
+                   for name, _ in solvers for k in ("shape", "points", "desc", "func", "turns", "mu"))
+        text = ", ".join(f"{name} {min(r):,.0f}-{max(r):,.0f}" for name, r in rates.items())
+        ratio = [a / b for a, b in zip(rates["engine fused"], rates["closed form"])]
+        ratio2 = [a / b for a, b in zip(rates["engine numpy"], rates["closed form"])]
+        print(f"  {top}: designs/s {text}; engine fused / closed form {min(ratio):.2f}-{max(ratio):.2f}×, engine "
+              f"numpy / closed form {min(ratio2):.2f}-{max(ratio2):.2f}×; the three atlases bit-identical: {same} "
+              f"[{load()}]", flush=True)
+
+
 def section_warm(designs: int, ref: float) -> None:
     print(f"warm atlas ({designs:,} designs per topology): K = 10 candidates, four-bar, μ ≥ {MIN_MU_DEG}°")
     t0 = time.perf_counter()
@@ -135,7 +168,12 @@ def _reachable(top: str) -> np.ndarray:
                 "slider_crank": ([0, 0, 0.2, 15, 40, 130, 50, -30.0], 1.0),
                 "inverted_slider_crank": ([0, 0, 100, 0, 45, 12, 40, 25.0], -1.0),
                 "sixbar": ([0, 0, 100, 0, 13.35, 49.61, 84.37, 65.82, 35.68, 150.03, -51.48, 241.37, 129.35,
-                            -34.70, -210.73], 1.0)}[top]
+                            -34.70, -210.73], 1.0),
+                # the six-bars with a slider (RRP) and a guided rocker (RPR) of tests/core/test_design_sixbar_dyads.py
+                "sixbar_slider": ([0, 0, 100, 0, 13.35, 49.61, 84.37, 25.0, 35.68, 60.0, 20.0, 120.0,
+                                   math.radians(100.0), -34.70, 40.0], 1.0),
+                "sixbar_guide": ([0, 0, 100, 0, 13.35, 49.61, 84.37, 25.0, 35.68, 60.0, 20.0, 15.0, -34.70, 40.0],
+                                 1.0)}[top]
     th = np.linspace(0.3, 0.3 + 2 * math.pi, 40, endpoint=False)
     P = F.evaluate(top, np.array([x]), th[None], sigma).P[0]
     P = 0.7 * np.exp(1.2j) * P + (300 - 50j)
@@ -144,10 +182,10 @@ def _reachable(top: str) -> np.ndarray:
 
 def section_reachable(designs: int, ref: float) -> None:
     print("reachable targets (a known linkage's coupler curve moved, turned, scaled; 40 points); goal ≤ 1e-6")
-    for top in TOPS:
+    for top in TOPS + ("sixbar_slider", "sixbar_guide"):
         t = path_target(_reachable(top))
         t0 = time.perf_counter()
-        opts = LinkageOptions(candidates=1, min_transmission_deg=20, max_size=12 if top == "sixbar" else 5)
+        opts = LinkageOptions(candidates=1, min_transmission_deg=20, max_size=12 if top.startswith("sixbar") else 5)
         res = synthesize_path(t, opts, top, atlas_designs=designs)
         c = res.candidates[0]
         line(f"{top}", time.perf_counter() - t0, ref, f"max deviation {c.deviation / t.size:.2e} of the size "
@@ -204,12 +242,16 @@ def main() -> None:
     p.add_argument("--workers", type=int, default=2)
     p.add_argument("--run-de", action="store_true")
     p.add_argument("--de-seconds", type=float, default=600.0)
+    p.add_argument("--speed-designs", type=int, default=50_000)
+    p.add_argument("--repeat", type=int, default=2)
     a = p.parse_args()
     ref = analyze_summary_time()
     print(f"one `mechsketch analyze fourbar_crank_rocker.json --summary`: {ref:.3f} s (median of 5) [{load()}]")
     sections = a.section.split(",")
     if "atlas" in sections:
         section_atlas(a.designs, a.workers, ref)
+    if "atlas-speed" in sections:
+        section_atlas_speed(a.speed_designs, a.repeat)
     if "exact" in sections:
         section_exact(ref)
     if "reachable" in sections:

@@ -16,7 +16,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
     p.add_argument("target", metavar="TARGET.csv", help="columns x,y (mm) [,input_deg]")
     p.add_argument("--topology", choices=TOPOLOGIES, default="fourbar",
-                   help="default: fourbar (any: all five atlases, each built on first use)")
+                   help="default: fourbar (sixbar: the six six-bar atlases; any: all nine, each built on first use)")
     p.add_argument("--open", action="store_true", help="the path is an open arc (default: a closed loop)")
     p.add_argument("--atlas-designs", type=int, default=None, metavar="N",
                    help="atlas size per topology (default 1,000,000; built on first use)")

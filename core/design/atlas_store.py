@@ -13,6 +13,7 @@ first query and kept with the atlas). Building and loading: :mod:`.atlas`.
 from __future__ import annotations
 
 import json
+import math
 import os
 import shutil
 import sys
@@ -25,7 +26,11 @@ import numpy as np
 from . import families as F
 from .descriptors import DESC_DIM
 
-VERSION = 1
+VERSION = 2
+#: what each format version changed (the message when an older cached atlas is rebuilt)
+VERSION_CHANGES = {1: "closed-form build",
+                   2: "built by the studies engine's batch kernels; six-bars with a slider (RRP) or a guided "
+                      "rocker (RPR) as the second dyad added"}
 #: coupler points per design
 POINTS = 2
 #: crank-angle samples per turn when building
@@ -43,7 +48,9 @@ SMALL_DESIGNS = 20_000
 class Spec:
     """How a topology is sampled: ``names`` of its shape parameters, their ``ranges`` (lo, hi)
     and whether each is sampled ``log``-uniformly; the coupler point's box (u, v ranges, in
-    units of ``point_unit``: "b" the coupler length, "1" the frame's unit)."""
+    units of ``point_unit``: "b" the coupler length, "1" the frame's unit, "l1" a six-bar's
+    rod, "r" the least distance of a guided rocker's pivot from E; the last two set by
+    :func:`~.atlas.sixbar_lengths`, :func:`~.atlas.slider_lengths`, :func:`~.atlas.guide_lengths`)."""
 
     names: tuple[str, ...]
     ranges: tuple[tuple[float, float], ...]
@@ -69,6 +76,29 @@ SPECS: dict[str, Spec] = {
                  ((0.12, 1.0), (0.3, 3.0), (0.3, 3.0), (-0.5, 1.5), (-1.0, 1.0), (-1.5, 2.5), (-2.0, 2.0),
                   (0.3, 3.0), (0.0, 1.0)),
                  (True, True, True, False, False, False, False, True, False), (-0.5, 1.5), (-1.0, 1.0), "l1"),
+    # with a slider (RRP) as the second dyad: a, b, c, E (units of b; of c on a Watt), a point F
+    # of the guide, where the rod l1 falls in its range (0..1, :func:`~.atlas.slider_lengths`)
+    # and the guide's direction g (rad; the other sense is the other assembly mode)
+    F.SIXBAR_SLIDER: Spec(("a", "b", "c", "ex", "ey", "Fx", "Fy", "l1", "g"),
+                          ((0.12, 1.0), (0.3, 3.0), (0.3, 3.0), (-0.5, 1.5), (-1.0, 1.0), (-1.5, 2.5), (-2.0, 2.0),
+                           (0.0, 1.0), (0.0, math.pi)),
+                          (True, True, True, False, False, False, False, False, False), (-0.5, 1.5), (-1.0, 1.0),
+                          "l1"),
+    F.WATT_SLIDER: Spec(("a", "b", "c", "ex", "ey", "Fx", "Fy", "l1", "g"),
+                        ((0.12, 1.0), (0.3, 3.0), (0.3, 3.0), (-0.5, 1.5), (-1.0, 1.0), (-1.5, 2.5), (-2.0, 2.0),
+                         (0.0, 1.0), (0.0, math.pi)),
+                        (True, True, True, False, False, False, False, False, False), (-0.5, 1.5), (-1.0, 1.0), "l1"),
+    # with a guided rocker (RPR) as the second dyad: a, b, c, E (units of b; of c on a Watt), the
+    # rocker's pivot F and the guide's offset as a fraction −1..1 of the largest it may have
+    # (:func:`~.atlas.guide_lengths`); the points in units of the least distance |E − F|
+    F.SIXBAR_GUIDE: Spec(("a", "b", "c", "ex", "ey", "Fx", "Fy", "e"),
+                         ((0.12, 1.0), (0.3, 3.0), (0.3, 3.0), (-0.5, 1.5), (-1.0, 1.0), (-1.5, 2.5), (-2.0, 2.0),
+                          (-1.0, 1.0)),
+                         (True, True, True, False, False, False, False, False), (-1.0, 1.0), (-1.0, 1.0), "r"),
+    F.WATT_GUIDE: Spec(("a", "b", "c", "ex", "ey", "Fx", "Fy", "e"),
+                       ((0.12, 1.0), (0.3, 3.0), (0.3, 3.0), (-0.5, 1.5), (-1.0, 1.0), (-1.5, 2.5), (-2.0, 2.0),
+                        (-1.0, 1.0)),
+                       (True, True, True, False, False, False, False, False), (-1.0, 1.0), (-1.0, 1.0), "r"),
 }
 
 
@@ -82,7 +112,7 @@ def family_params(topology: str, shape: np.ndarray, points: np.ndarray) -> np.nd
         return np.stack([z, z, one, z, shape[:, 0], shape[:, 1], shape[:, 2], px, py], axis=1)
     if topology == F.SLIDER_CRANK:
         return np.stack([z, z, z, shape[:, 0], one, shape[:, 1], px, py], axis=1)
-    if topology in F.SIXBARS:
+    if topology in F.ALL_SIXBARS:
         return np.concatenate([np.stack([z, z, one, z], axis=1), shape, np.stack([px, py], axis=1)], axis=1)
     return np.stack([z, z, one, z, shape[:, 0], shape[:, 1], px, py], axis=1)
 
@@ -102,8 +132,17 @@ def cache_dir() -> Path:
     return base / "mechsketch"
 
 
-def atlas_folder(topology: str, designs: int) -> Path:
-    return cache_dir() / f"atlas-v{VERSION}" / f"{topology}-{designs}"
+def atlas_folder(topology: str, designs: int, version: int = VERSION) -> Path:
+    """Where the atlas of ``topology`` with ``designs`` designs of format ``version`` is kept."""
+    return cache_dir() / f"atlas-v{version}" / f"{topology}-{designs}"
+
+
+def read_meta(folder: Path) -> dict | None:
+    """The ``meta.json`` of the atlas in ``folder`` (any version), or None."""
+    try:
+        return json.loads((folder / "meta.json").read_text())
+    except (OSError, ValueError):
+        return None
 
 
 @dataclass
@@ -197,5 +236,5 @@ def function_values(atlas: Atlas, rows: np.ndarray, theta: np.ndarray) -> np.nda
 
 
 __all__ = ["Atlas", "DEFAULT_DESIGNS", "DESC_DIM", "FUNC_HARMONICS", "MIN_MU_DEG", "POINTS", "SAMPLES", "SMALL_DESIGNS",
-           "SPECS", "Spec", "VERSION", "atlas_folder", "cache_dir", "disk_bytes", "family_params", "function_values",
-           "read_atlas", "save_atlas"]
+           "SPECS", "Spec", "VERSION", "VERSION_CHANGES", "atlas_folder", "cache_dir", "disk_bytes", "family_params",
+           "function_values", "read_atlas", "read_meta", "save_atlas"]

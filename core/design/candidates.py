@@ -94,8 +94,9 @@ def build_linkage(topology: str, x: np.ndarray, sigma: float, theta0: float, ele
         raise GeometryError(f"the {topology} cannot be assembled at the drawn crank angle {math.degrees(theta0):.6g}°")
     j = {k: complex(v[0, 0]) for k, v in ev.joints.items()}
     P = complex(ev.P[0, 0])
-    out_name = "output" if output else {F.SLIDER_CRANK: "slider", F.SIXBAR: "rocker2", F.WATT: "rocker2"}.get(
-        topology, "rocker")
+    out_name = "output" if output else {F.SLIDER_CRANK: "slider", F.SIXBAR: "rocker2", F.WATT: "rocker2",
+                                        F.SIXBAR_SLIDER: "slider", F.WATT_SLIDER: "slider", F.SIXBAR_GUIDE: "rocker2",
+                                        F.WATT_GUIDE: "rocker2"}.get(topology, "rocker")
     R = JointKind.R
     if topology == F.FOURBAR:
         joints = [Joint("A", R, _pt(j["A"])), Joint("B", R, _pt(j["B"])), Joint("C", R, _pt(j["C"])),
@@ -112,17 +113,36 @@ def build_linkage(topology: str, x: np.ndarray, sigma: float, theta0: float, ele
                   Joint("Q", JointKind.P, _pt(j["B"]), _deg(j["u"]))]
         links = [Link("ground", ("A", "C")), Link("crank", ("A", "B")), Link("coupler", ("B", "Q")),
                  Link(out_name, ("C", "Q"))]
-    else:   # six-bars: the path point on the link E G of the dyad hung on the connector (or rocker)
-        watt = topology == F.WATT
-        joints = [Joint(k, R, _pt(j[k])) for k in ("A", "B", "C", "D", "E", "F", "G")]
-        links = [Link("ground", ("A", "D", "F")), Link("crank", ("A", "B")), Link("coupler", ("E", "G")),
-                 Link("connector", ("B", "C") if watt else ("B", "C", "E")),
-                 Link("rocker", ("D", "C", "E") if watt else ("D", "C")), Link(out_name, ("F", "G"))]
+    else:
+        joints, links = _sixbar_parts(topology, j, out_name)
     if point:
         joints.append(Joint("P", R, _pt(P)))
         links[2] = Link("coupler", links[2].joints + ("P",))
     rpm = abs(speed_rpm) if direction >= 0 else -abs(speed_rpm)
     return Linkage(element_id, tuple(joints), tuple(links), "ground", Driver("crank", "A", rpm), samples)
+
+
+def _sixbar_parts(topology: str, j: dict[str, complex], out_name: str) -> tuple[list[Joint], list[Link]]:
+    """A six-bar's joints and links: the path point's link ``coupler`` is the second dyad's
+    link hung on the connector (Stephenson) or the rocker (Watt) at E: the rod E G to a rocker
+    F G (RRR) or to a slider on the frame's guide S (RRP), or the block on the guide Q of a
+    rocker pivoted at F (RPR)."""
+    R = JointKind.R
+    watt = topology in F.WATTS
+    first = [Joint(k, R, _pt(j[k])) for k in ("A", "B", "C", "D", "E")]
+    four = [Link("crank", ("A", "B")), Link("connector", ("B", "C") if watt else ("B", "C", "E")),
+            Link("rocker", ("D", "C", "E") if watt else ("D", "C"))]
+    if topology in F.SLIDER_SIXBARS:      # G a slider's pin on the guide through F: joint S
+        joints = first + [Joint("G", R, _pt(j["G"])), Joint("S", JointKind.P, _pt(j["G"]), _deg(j["e"]))]
+        return joints, [Link("ground", ("A", "D", "S")), four[0], Link("coupler", ("E", "G"))] + four[1:] + \
+            [Link(out_name, ("G", "S"))]
+    if topology in F.GUIDE_SIXBARS:       # the block E on the guide Q of the rocker F
+        joints = first + [Joint("F", R, _pt(j["F"])), Joint("Q", JointKind.P, _pt(j["E"]), _deg(j["u"]))]
+        return joints, [Link("ground", ("A", "D", "F")), four[0], Link("coupler", ("E", "Q"))] + four[1:] + \
+            [Link(out_name, ("F", "Q"))]
+    joints = first + [Joint("F", R, _pt(j["F"])), Joint("G", R, _pt(j["G"]))]
+    return joints, [Link("ground", ("A", "D", "F")), four[0], Link("coupler", ("E", "G"))] + four[1:] + \
+        [Link(out_name, ("F", "G"))]
 
 
 def kind_text(topology: str, x: np.ndarray) -> str:
@@ -132,10 +152,12 @@ def kind_text(topology: str, x: np.ndarray) -> str:
         d = math.hypot(x[2] - x[0], x[3] - x[1])
         cls, kind = fourbar_type(d, x[4], x[5], x[6])
         return f"{kind.split(' (')[0]}, {cls.split(' (')[0]}"
-    if topology in F.SIXBARS:
+    if topology in F.ALL_SIXBARS:
         d = math.hypot(x[2] - x[0], x[3] - x[1])
-        name = "Watt II" if topology == F.WATT else "Stephenson III"
-        return f"{name} six-bar on a " + fourbar_type(d, x[4], x[5], x[6])[1].split(" (")[0]
+        name = "Watt II" if topology in F.WATTS else "Stephenson III"
+        tail = (" and a slider" if topology in F.SLIDER_SIXBARS else
+                " and a guided rocker" if topology in F.GUIDE_SIXBARS else "")
+        return f"{name} six-bar on a " + fourbar_type(d, x[4], x[5], x[6])[1].split(" (")[0] + tail
     if topology == F.SLIDER_CRANK:
         off = abs(x[3])
         return ("centric" if off <= 1e-9 * max(x[4], x[5]) else f"offset {off:.4g} mm") + \
@@ -191,8 +213,9 @@ def drive_check(linkage: Linkage, topology: str, x: np.ndarray, sigma: float, th
                           plan)
     ev = F.evaluate(topology, x[None], theta[None], sigma)
     name, ref = ("P", ev.P[0]) if "P" in linkage.joint_ids else ("C", ev.joints["C"][0])
-    if topology in F.SIXBARS and name == "C":
-        name, ref = "G", ev.joints["G"][0]
+    if topology in F.ALL_SIXBARS and name == "C":     # the second dyad's moving joint
+        name = "G" if "G" in ev.joints else "E"
+        ref = ev.joints[name][0]
     got = sol.position(name)
     gap = np.max(np.abs(got[:, 0] + 1j * got[:, 1] - ref))
     if not gap <= AGREE_REL * max(size, 1.0):

@@ -32,13 +32,16 @@ DESC_DIM = 2 + 2 * len(HARMONICS)
 ARC_SAMPLES = 64
 
 
-def resample_closed(z: np.ndarray, samples: int = ARC_SAMPLES, compiled: bool = False) -> np.ndarray:
+def resample_closed(z: np.ndarray, samples: int = ARC_SAMPLES, compiled: bool = False,
+                    min_rows: int = 4096) -> np.ndarray:
     """(..., samples) points equally spaced in arc length along the closed polygon z (..., N),
     starting at z[..., 0]. Rows of zero length come back as their first point. ``compiled``
-    (the atlas build: a million rows): a numba-compiled loop (:func:`_resample_compiled`); the
-    numpy form is the reference (:func:`resample_closed_numpy`, tested equal)."""
+    (the atlas build: a million rows): a numba-compiled loop (:func:`_resample_compiled`) from
+    ``min_rows`` rows on (where numba pays for its start-up; the atlas gives 0, so that a
+    design's descriptor does not depend on how many are described with it); the numpy form is
+    the reference (:func:`resample_closed_numpy`, tested equal to 1e-12)."""
     z = np.asarray(z, dtype=complex)
-    if compiled and z.ndim > 1 and z.size // z.shape[-1] >= 4096:   # numba pays for its start-up
+    if compiled and z.ndim > 1 and z.size // max(z.shape[-1], 1) >= min_rows:
         fn = _resample_compiled()
         if fn is not None:
             flat = np.ascontiguousarray(z.reshape(-1, z.shape[-1]))
@@ -147,10 +150,11 @@ def descriptor_of(cn: np.ndarray, ks: tuple[int, ...] | None = None) -> np.ndarr
     return np.stack(parts, axis=-1)
 
 
-def fourier_descriptor(z: np.ndarray, samples: int = ARC_SAMPLES, compiled: bool = False) -> np.ndarray:
-    """(..., DESC_DIM) descriptors of closed curves z (..., N) complex (``compiled``: see
-    :func:`resample_closed`)."""
-    return descriptor_of(normalise(coefficients(resample_closed(z, samples, compiled)), _KS), _KS)
+def fourier_descriptor(z: np.ndarray, samples: int = ARC_SAMPLES, compiled: bool = False,
+                       min_rows: int = 4096) -> np.ndarray:
+    """(..., DESC_DIM) descriptors of closed curves z (..., N) complex (``compiled``,
+    ``min_rows``: see :func:`resample_closed`)."""
+    return descriptor_of(normalise(coefficients(resample_closed(z, samples, compiled, min_rows)), _KS), _KS)
 
 
 def query_variants(z: np.ndarray, samples: int = ARC_SAMPLES) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

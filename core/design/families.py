@@ -19,6 +19,19 @@ A design is a parameter vector in the world frame (mm, rad), one row per design:
                            path point P = E + (px + i·py)·(G − E)/l1 on the link E G
 ``watt_sixbar``            the same parameters, E = D + (ex + i·ey)·(C − D)/c on the rocker: a
                            Watt II six-bar (two four-bars in series)
+``sixbar_slider``          Ax Ay Dx Dy a b c ex ey Fx Fy l1 g px py — the Stephenson III six-bar
+                           whose second dyad is an RRP: the rod E–G (l1) drives a slider whose
+                           pin G moves on the fixed guide {F + s·e^{ig}} (F a point of the
+                           guide, g its direction, rad); P = E + (px + i·py)·(G − E)/l1 on the
+                           rod; the output is the slider's position s (mm from F)
+``watt_sixbar_slider``     the same, E on the rocker (as ``watt_sixbar``): a Watt II six-bar
+                           with a slider
+``sixbar_guide``           Ax Ay Dx Dy a b c ex ey Fx Fy e px py — the Stephenson III six-bar
+                           whose second dyad is an RPR: a block pivoted at E slides on a guide
+                           of the rocker pivoted at F, the guide at offset e from F (u: its
+                           direction, as the inverted slider-crank's); the block carries
+                           P = E + (px + i·py)·u; the output is the guided rocker's angle
+``watt_sixbar_guide``      the same, E on the rocker: a Watt II six-bar with a guided rocker
 =========================  =====================================================================
 
 plus an assembly mode σ = ±1 per design (which of the two closures); the six-bar's code
@@ -42,8 +55,21 @@ from .dual import Dual
 
 FOURBAR, SLIDER_CRANK, INVERTED, SIXBAR = "fourbar", "slider_crank", "inverted_slider_crank", "sixbar"
 WATT = "watt_sixbar"
-#: the six-bars (the same parameters; E on the connector: Stephenson III; on the rocker: Watt II)
+SIXBAR_SLIDER, WATT_SLIDER = "sixbar_slider", "watt_sixbar_slider"
+#: the six-bars with an RRR second dyad (the same parameters; E on the connector: Stephenson
+#: III; on the rocker: Watt II)
 SIXBARS = (SIXBAR, WATT)
+#: the six-bars whose second dyad is an RRP (a slider on a fixed guide)
+SLIDER_SIXBARS = (SIXBAR_SLIDER, WATT_SLIDER)
+SIXBAR_GUIDE, WATT_GUIDE = "sixbar_guide", "watt_sixbar_guide"
+#: the six-bars whose second dyad is an RPR (a block on a guide of a rocker pivoted at F)
+GUIDE_SIXBARS = (SIXBAR_GUIDE, WATT_GUIDE)
+#: every six-bar: the first dyad RRR, E on the connector or the rocker, the second RRR, RRP or
+#: RPR; all share the layout A, D, a, b, c, ex, ey, F (9, 10), then l1 (11) and l2 or g, or the
+#: guide's offset e (11), then px, py
+ALL_SIXBARS = SIXBARS + SLIDER_SIXBARS + GUIDE_SIXBARS
+#: the six-bars with E on the rocker (Watt II)
+WATTS = (WATT, WATT_SLIDER, WATT_GUIDE)
 
 PARAMS: dict[str, tuple[str, ...]] = {
     FOURBAR: ("Ax", "Ay", "Dx", "Dy", "a", "b", "c", "px", "py"),
@@ -51,12 +77,19 @@ PARAMS: dict[str, tuple[str, ...]] = {
     INVERTED: ("Ax", "Ay", "Gx", "Gy", "a", "e", "px", "py"),
     SIXBAR: ("Ax", "Ay", "Dx", "Dy", "a", "b", "c", "ex", "ey", "Fx", "Fy", "l1", "l2", "px", "py"),
     WATT: ("Ax", "Ay", "Dx", "Dy", "a", "b", "c", "ex", "ey", "Fx", "Fy", "l1", "l2", "px", "py"),
+    SIXBAR_SLIDER: ("Ax", "Ay", "Dx", "Dy", "a", "b", "c", "ex", "ey", "Fx", "Fy", "l1", "g", "px", "py"),
+    WATT_SLIDER: ("Ax", "Ay", "Dx", "Dy", "a", "b", "c", "ex", "ey", "Fx", "Fy", "l1", "g", "px", "py"),
+    SIXBAR_GUIDE: ("Ax", "Ay", "Dx", "Dy", "a", "b", "c", "ex", "ey", "Fx", "Fy", "e", "px", "py"),
+    WATT_GUIDE: ("Ax", "Ay", "Dx", "Dy", "a", "b", "c", "ex", "ey", "Fx", "Fy", "e", "px", "py"),
 }
 #: parameters that are lengths which must stay positive
 POSITIVE: dict[str, tuple[str, ...]] = {FOURBAR: ("a", "b", "c"), SLIDER_CRANK: ("a", "b"), INVERTED: ("a",),
-                                        SIXBAR: ("a", "b", "c", "l1", "l2"), WATT: ("a", "b", "c", "l1", "l2")}
+                                        SIXBAR: ("a", "b", "c", "l1", "l2"), WATT: ("a", "b", "c", "l1", "l2"),
+                                        SIXBAR_SLIDER: ("a", "b", "c", "l1"), WATT_SLIDER: ("a", "b", "c", "l1"),
+                                        SIXBAR_GUIDE: ("a", "b", "c"), WATT_GUIDE: ("a", "b", "c")}
 #: the output's unit per topology (rocker angle or slider position)
-OUTPUT_UNIT = {FOURBAR: "rad", SLIDER_CRANK: "mm", INVERTED: "rad", SIXBAR: "rad", WATT: "rad"}
+OUTPUT_UNIT = {FOURBAR: "rad", SLIDER_CRANK: "mm", INVERTED: "rad", SIXBAR: "rad", WATT: "rad", SIXBAR_SLIDER: "mm",
+               WATT_SLIDER: "mm", SIXBAR_GUIDE: "rad", WATT_GUIDE: "rad"}
 TOPOLOGIES = tuple(PARAMS)
 
 
@@ -185,11 +218,7 @@ def _sixbar(p: list, th, sigma: np.ndarray, watt: bool = False) -> tuple:
     P = E + (px + 1j * py) * (G - E) / l1
     mu1 = _abs(_im(_conj(C - B) * (C - D)) / (b * c))
     mu2 = _abs(_im(_conj(G - E) * (G - Fp)) / (l1 * l2))
-    if isinstance(mu1, Dual):
-        take = _val(mu1) <= _val(mu2)
-        sin_mu = Dual(np.where(take, mu1.v, mu2.v), np.where(take[..., None], mu1.d, mu2.d))
-    else:
-        sin_mu = np.minimum(mu1, mu2)
+    sin_mu = _lesser(mu1, mu2)
     joints = {"A": _val(A), "B": _val(B), "C": _val(C), "D": _val(D), "E": _val(E), "F": _val(Fp), "G": _val(G)}
     return P, _angle(G - Fp), _angle(G - E), sin_mu, joints
 
@@ -198,7 +227,72 @@ def _watt(p: list, th, sigma: np.ndarray) -> tuple:
     return _sixbar(p, th, sigma, watt=True)
 
 
-_EVAL = {FOURBAR: _fourbar, SLIDER_CRANK: _slider_crank, INVERTED: _inverted, SIXBAR: _sixbar, WATT: _watt}
+def _lesser(m1, m2):
+    """The smaller of two (Dual) sines of transmission angles, element by element."""
+    if isinstance(m1, Dual):
+        take = _val(m1) <= _val(m2)
+        return Dual(np.where(take, m1.v, m2.v), np.where(take[..., None], m1.d, m2.d))
+    return np.minimum(m1, m2)
+
+
+def _sixbar_slider(p: list, th, sigma: np.ndarray, watt: bool = False) -> tuple:
+    """The six-bar with an RRP second dyad (:data:`SLIDER_SIXBARS`): the rod E–G and the slider
+    pin G on the fixed guide through F at angle g; its transmission quality is |cos| of the
+    rod's angle to the guide's normal (the pressure angle's cosine), q / l1."""
+    ax, ay, dx, dy, a, b, c, ex, ey, fx, fy, l1, g, px, py = p
+    s1 = np.sign(sigma)
+    s2 = np.where(np.abs(sigma) < 1.5, s1, -s1)
+    A, D, Fp = ax + 1j * ay, dx + 1j * dy, fx + 1j * fy
+    B = A + a * _expi(th)
+    C = _rrr(B, D, b, c, s1)
+    E = D + (ex + 1j * ey) * (C - D) / c if watt else B + (ex + 1j * ey) * (C - B) / b
+    e = _expi(g)
+    El = _conj(e) * (E - Fp)
+    q = _sqrt(l1 * l1 - _im(El) * _im(El))
+    s = _re(El) + s2 * q
+    G = Fp + s * e
+    P = E + (px + 1j * py) * (G - E) / l1
+    mu1 = _abs(_im(_conj(C - B) * (C - D)) / (b * c))
+    sin_mu = _lesser(mu1, _abs(q / l1))
+    joints = {"A": _val(A), "B": _val(B), "C": _val(C), "D": _val(D), "E": _val(E), "F": _val(Fp), "G": _val(G),
+              "e": _val(e)}
+    return P, s, _angle(G - E), sin_mu, joints
+
+
+def _watt_slider(p: list, th, sigma: np.ndarray) -> tuple:
+    return _sixbar_slider(p, th, sigma, watt=True)
+
+
+def _sixbar_guide(p: list, th, sigma: np.ndarray, watt: bool = False) -> tuple:
+    """The six-bar with an RPR second dyad (:data:`GUIDE_SIXBARS`): the block pivoted at E on
+    the guide of the rocker pivoted at F (offset e), as the inverted slider-crank's; its
+    transmission quality is t/|E − F|, the cosine of the guide's angle to the line F E's normal."""
+    ax, ay, dx, dy, a, b, c, ex, ey, fx, fy, e, px, py = p
+    s1 = np.sign(sigma)
+    s2 = np.where(np.abs(sigma) < 1.5, s1, -s1)
+    A, D, Fp = ax + 1j * ay, dx + 1j * dy, fx + 1j * fy
+    B = A + a * _expi(th)
+    C = _rrr(B, D, b, c, s1)
+    E = D + (ex + 1j * ey) * (C - D) / c if watt else B + (ex + 1j * ey) * (C - B) / b
+    r = E - Fp
+    r2 = _abs2(r)
+    t = s2 * _sqrt(r2 - e * e)
+    u = r * (t - 1j * e) / r2
+    P = E + (px + 1j * py) * u
+    mu1 = _abs(_im(_conj(C - B) * (C - D)) / (b * c))
+    sin_mu = _lesser(mu1, _abs(t / _sqrt(r2)))
+    out = _angle(u)
+    joints = {"A": _val(A), "B": _val(B), "C": _val(C), "D": _val(D), "E": _val(E), "F": _val(Fp), "u": _val(u)}
+    return P, out, out, sin_mu, joints
+
+
+def _watt_guide(p: list, th, sigma: np.ndarray) -> tuple:
+    return _sixbar_guide(p, th, sigma, watt=True)
+
+
+_EVAL = {FOURBAR: _fourbar, SLIDER_CRANK: _slider_crank, INVERTED: _inverted, SIXBAR: _sixbar, WATT: _watt,
+         SIXBAR_SLIDER: _sixbar_slider, WATT_SLIDER: _watt_slider, SIXBAR_GUIDE: _sixbar_guide,
+         WATT_GUIDE: _watt_guide}
 
 
 def evaluate(topology: str, x: np.ndarray, theta: np.ndarray, sigma=1.0, grad: bool = False) -> Evaluation:
@@ -242,12 +336,17 @@ def transform(topology: str, x: np.ndarray, s: complex | np.ndarray, t: complex 
     if topology == SLIDER_CRANK:
         x[:, 2] += turn
         x[:, 3:] *= k[:, None]
-    elif topology in SIXBARS:
+    elif topology in ALL_SIXBARS:
         for i in (2, 9):
             Z = s * (x[:, i] + 1j * x[:, i + 1]) + t
             x[:, i], x[:, i + 1] = Z.real, Z.imag
-        for i in (4, 5, 6, 7, 8, 11, 12, 13, 14):
-            x[:, i] *= k
+        for i in range(4, x.shape[1]):
+            if i in (9, 10):                 # F, moved above
+                continue
+            if i == 12 and topology in SLIDER_SIXBARS:
+                x[:, i] += turn          # the guide's direction turns
+            else:
+                x[:, i] *= k
     else:
         G = s * (x[:, 2] + 1j * x[:, 3]) + t
         x[:, 2], x[:, 3] = G.real, G.imag
@@ -269,11 +368,18 @@ def mirror(topology: str, x: np.ndarray, sigma) -> tuple[np.ndarray, np.ndarray]
     if topology in SIXBARS:
         x[:, 8], x[:, 10] = -x[:, 8], -x[:, 10]
         return x, -sig
+    if topology in SLIDER_SIXBARS:   # the rod's mode keeps its sign (s is measured along the guide)
+        x[:, 8], x[:, 10], x[:, 12] = -x[:, 8], -x[:, 10], -x[:, 12]
+        return x, -np.sign(sig) * (3.0 - np.abs(sig))
+    if topology in GUIDE_SIXBARS:    # the guide's offset changes sign, the block's mode does not
+        x[:, 8], x[:, 10], x[:, 11] = -x[:, 8], -x[:, 10], -x[:, 11]
+        return x, -np.sign(sig) * (3.0 - np.abs(sig))
     if topology == INVERTED:
         x[:, 5] = -x[:, 5]
         return x, sig
     return x, -sig
 
 
-__all__ = ["Evaluation", "FOURBAR", "INVERTED", "OUTPUT_UNIT", "PARAMS", "POSITIVE", "SLIDER_CRANK", "TOPOLOGIES",
-           "SIXBAR", "SIXBARS", "WATT", "evaluate", "mirror", "transform"]
+__all__ = ["ALL_SIXBARS", "Evaluation", "FOURBAR", "GUIDE_SIXBARS", "INVERTED", "OUTPUT_UNIT", "PARAMS", "POSITIVE",
+           "SIXBAR", "SIXBARS", "SIXBAR_GUIDE", "SIXBAR_SLIDER", "SLIDER_CRANK", "SLIDER_SIXBARS", "TOPOLOGIES", "WATT",
+           "WATTS", "WATT_GUIDE", "WATT_SLIDER", "evaluate", "mirror", "transform"]

@@ -48,7 +48,8 @@ def _signature(d: Design, size: float) -> tuple[str, np.ndarray]:
     """Its topology and where its pivots and pins are (world, mm / size): two designs this close
     are the same."""
     ev = F.evaluate(d.topology, d.x[None], np.array([[d.inputs[0]]]), d.sigma)
-    pts = [v[0, 0] for k, v in sorted(ev.joints.items()) if np.iscomplexobj(v) and k not in ("e", "u")]
+    skip = ("e", "u", "F") if d.topology in F.SLIDER_SIXBARS else ("e", "u")   # (F: any point of a guide)
+    pts = [v[0, 0] for k, v in sorted(ev.joints.items()) if np.iscomplexobj(v) and k not in skip]
     return d.topology, np.array([p for z in pts for p in (z.real, z.imag)]) / size
 
 
@@ -56,8 +57,10 @@ def fixed_pivots(topology: str, x: np.ndarray) -> np.ndarray:
     """(2,) or (1,) the design's pivots on the frame (complex mm)."""
     if topology == F.SLIDER_CRANK:
         return np.array([x[0] + 1j * x[1]])
-    if topology in F.SIXBARS:
+    if topology in F.SIXBARS + F.GUIDE_SIXBARS:
         return np.array([x[0] + 1j * x[1], x[2] + 1j * x[3], x[9] + 1j * x[10]])
+    if topology in F.SLIDER_SIXBARS:     # F is any point of the slider's guide: not a pivot
+        return np.array([x[0] + 1j * x[1], x[2] + 1j * x[3]])
     return np.array([x[0] + 1j * x[1], x[2] + 1j * x[3]])
 
 

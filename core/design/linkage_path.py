@@ -34,15 +34,16 @@ from .path_starts import Start, closed_starts, open_starts
 from .refine import floor_penalty, levenberg_marquardt
 from .targets import DesignError, PathTarget, Progress, report
 
-TOPOLOGIES = (F.FOURBAR, F.SLIDER_CRANK, F.INVERTED, F.SIXBAR, F.WATT)
-#: what --topology takes: "sixbar" means both six-bars (Stephenson III and Watt II)
+TOPOLOGIES = (F.FOURBAR, F.SLIDER_CRANK, F.INVERTED) + F.ALL_SIXBARS
+#: what --topology takes: "sixbar" means every six-bar (Stephenson III and Watt II, their second
+#: dyad an RRR, a slider's RRP or a guided rocker's RPR)
 CHOICES = (F.FOURBAR, F.SLIDER_CRANK, F.INVERTED, F.SIXBAR, "any")
 #: starts refined per topology
 STARTS = 32
 #: samples of the transmission-angle penalty over the span
 PENALTY_SAMPLES = 48
 #: Levenberg–Marquardt iterations of the refinement (the six-bar's 15 parameters converge slower)
-ITERATIONS = {F.SIXBAR: 120, F.WATT: 120}
+ITERATIONS = {top: 120 for top in F.ALL_SIXBARS}
 DEFAULT_ITERATIONS = 40
 #: weight of the transmission-angle penalty (per unit of sin μ below the floor, per sample)
 MU_WEIGHT = 2.0
@@ -158,7 +159,7 @@ def _topologies(topology: str) -> tuple[str, ...]:
     if topology == "any":
         return TOPOLOGIES
     if topology == F.SIXBAR:
-        return F.SIXBARS
+        return F.ALL_SIXBARS
     if topology not in TOPOLOGIES:
         raise DesignError(f"unknown topology {topology!r}; choose one of {', '.join(CHOICES)}")
     return (topology,)

@@ -14,13 +14,14 @@ TEST_DESIGNS = 4000
 
 @pytest.fixture(scope="session")
 def atlas_cache(tmp_path_factory):
-    """The temporary cache folder with the test atlases of the five topologies."""
+    """The temporary cache folder with the test atlases of the nine topologies."""
     folder = tmp_path_factory.mktemp("mechsketch-cache")
     old = {k: os.environ.get(k) for k in ("MECHSKETCH_CACHE_DIR", "MECHSKETCH_ATLAS_DESIGNS")}
     os.environ["MECHSKETCH_CACHE_DIR"] = str(folder)
     os.environ["MECHSKETCH_ATLAS_DESIGNS"] = str(TEST_DESIGNS)
     forget_loaded()
-    for top in ("fourbar", "slider_crank", "inverted_slider_crank", "sixbar", "watt_sixbar"):
+    for top in ("fourbar", "slider_crank", "inverted_slider_crank", "sixbar", "watt_sixbar", "sixbar_slider",
+                "watt_sixbar_slider", "sixbar_guide", "watt_sixbar_guide"):
         load_atlas(top)
     yield folder
     forget_loaded()
