@@ -25,7 +25,7 @@ from .link_state import LinkState, ground_state, to_complex
 Arr = np.ndarray  # complex (N,) for points/vectors, float (N,) for scalars
 
 __all__ = ["DyadOut", "LinkState", "PARALLEL_COND", "Slide", "crank", "cross", "dot", "ground_state",
-           "prp", "rpp", "rpr", "rrp", "rrr", "solve2", "to_complex"]
+           "crank_cs", "prp", "rpp", "rpr", "rrp", "rrr", "solve2", "to_complex"]
 
 
 def cross(a: Arr, b: Arr) -> Arr:
@@ -151,13 +151,19 @@ def _floor(num: float, den: float) -> float:
     return 0.0
 
 
-def crank(pivot: complex, a0_angle: float, inputs: Arr, omega: float | Arr, alpha: float | Arr,
-          order: int) -> LinkState:
-    """The driver: rotation about a ground pivot by ``inputs − a0_angle`` (rad)."""
+def crank_cs(inputs: Arr, a0_angle: float) -> tuple[Arr, Arr]:
+    """(cos, sin) of ``inputs − a0_angle``, float (N,): the driver's rotation from the drawn pose."""
     th = inputs - a0_angle
-    c = np.cos(th)
+    return np.cos(th), np.sin(th, out=th)   # sin into th
+
+
+def crank(pivot: complex, a0_angle: float, inputs: Arr, omega: float | Arr, alpha: float | Arr,
+          order: int, cs: tuple[Arr, Arr] | None = None) -> LinkState:
+    """The driver: rotation about a ground pivot by ``inputs − a0_angle`` (rad). ``cs``: its
+    :func:`crank_cs`, if the caller keeps it (a plan keeps the read-only (cos, sin) of its sweeps'
+    input grids; nothing writes into a state's arrays)."""
     # the anchor (the pivot) as scalars, like the frame's: points of the crank are pivot + arm
-    st = LinkState.real(pivot, (pivot.real, pivot.imag), (c, np.sin(th, out=th)))   # sin into th
+    st = LinkState.real(pivot, (pivot.real, pivot.imag), crank_cs(inputs, a0_angle) if cs is None else cs)
     if order >= 1:
         st._vA_xy, st.omega = (0.0, 0.0), omega      # slots: the state is new, no complex view
     if order >= 2:

@@ -30,6 +30,8 @@ __all__ = ["TOGGLE_COND", "TOUCH_REL", "Plan", "Solution", "Step", "compile_plan
 
 #: sweeps of up to this many samples need no reserve (:mod:`.memory`)
 _reserved_for = 255
+#: a plan keeps the input grids of sweeps of this many sample counts (:meth:`Plan._make_grid`)
+_GRIDS = 4
 
 
 @dataclass
@@ -53,6 +55,8 @@ class Plan:
     joint_at: dict[str, tuple[str, complex]] = field(default_factory=dict, repr=False)
     #: (every step's index, the branch points) once every group's branch points are known
     _every: tuple | None = field(default=None, repr=False)
+    #: per sample count of the constant-speed sweeps: (inputs, k, crank (cos, sin)), read-only
+    _grid: dict | None = field(default=None, repr=False)
 
     def local(self) -> "Plan":
         """This plan for the linkage moved so that its driver pivot sits at the origin (the
@@ -129,15 +133,16 @@ class Plan:
 
     def run_steps(self, inputs: np.ndarray, order: int, idx: Iterable[int],
                   branches: dict[str, np.ndarray], omega: float | None = None, alpha: float = 0.0,
-                  states: dict | None = None) -> dict[str, K.DyadOut]:
-        """Run the kernels of steps ``idx`` at ``inputs`` (the engine under :meth:`evaluate`)."""
+                  states: dict | None = None, cs: tuple | None = None) -> dict[str, K.DyadOut]:
+        """Run the kernels of steps ``idx`` at ``inputs`` (the engine under :meth:`evaluate`).
+        ``cs``: the crank's (cos, sin) at ``inputs`` (:func:`~.kernels.crank_cs`), if known."""
         w = self.omega if omega is None else omega
         drv = self.linkage.driver
         if states is None:
             states = {}
         states[self.linkage.ground] = K.ground_state()
-        if self.drive is None:
-            states[drv.link] = K.crank(self.pivot, self.theta0, inputs, w, alpha, order)
+        if self.drive is None or cs is not None:
+            states[drv.link] = K.crank(self.pivot, self.theta0, inputs, w, alpha, order, cs)
         else:
             self.drive.set_states(states, inputs, w, alpha, order)
         linear = self.drive is not None and self.drive.linear
@@ -182,6 +187,10 @@ class Plan:
         """
         if order not in (0, 1, 2):
             raise RequestError(f"order must be 0, 1 or 2, got {order}")
+        return self._solve(inputs, order, omega, alpha, joints, t)
+
+    def _solve(self, inputs, order: int, omega, alpha, joints, t, cs: tuple | None = None) -> "Solution":
+        """:meth:`evaluate`; ``cs`` the crank's (cos, sin) at ``inputs``, if known (a sweep's)."""
         every = self._every
         if joints is None and every is not None and every[1] is self._branches:   # every step's known
             idx, branches = every
@@ -198,7 +207,7 @@ class Plan:
         w = self.omega if omega is None else _rate(omega)
         alpha = _rate(alpha)
         states: dict[str, K.LinkState] = {}
-        outs = self.run_steps(inputs, order, idx, branches, w, alpha, states)
+        outs = self.run_steps(inputs, order, idx, branches, w, alpha, states, cs)
         valid = None
         every = True        # every group found every sample assembled: valid is all True
         for out in outs.values():
@@ -230,14 +239,31 @@ class Plan:
         if drv.linear or not drv.law.is_constant:
             m = cycle(drv, self.theta0, n)
             return self.evaluate(m.q, order=order, omega=m.qd, alpha=m.qdd, joints=joints, t=m.t)
-        k = np.arange(n, dtype=float)   # the same values as int k times a float (exact below 2**53)
+        if order not in (0, 1, 2):
+            raise RequestError(f"order must be 0, 1 or 2, got {order}")
         w = self.omega
-        sgn = 1.0 if w >= 0 else -1.0
+        grid = None if self._grid is None else self._grid.get(n)
+        inputs, k, cs = self._make_grid(n) if grid is None else grid
+        dt = 2.0 * math.pi / abs(w) / n
+        # the inputs: a copy of the grid's (a solution's own); the times made only if read
+        # (Solution.t calls this); the crank's rotation shared, read-only
+        return self._solve(inputs.copy(), order, w, 0.0, joints, lambda: k * dt, cs)
+
+    def _make_grid(self, n: int) -> tuple:
+        """The inputs of a constant-speed sweep of ``n`` samples, the sample numbers k and the
+        crank's (cos, sin) there (None for another drive), read-only and kept for the next
+        sweeps of ``n`` samples (the last few sizes)."""
+        k = np.arange(n, dtype=float)   # the same values as int k times a float (exact below 2**53)
+        sgn = 1.0 if self.omega >= 0 else -1.0
         inputs = sgn * (2.0 * math.pi / n) * k
         inputs += self.theta0           # θ0 + sgn·(2π/N)·k, in place (no second array)
-        dt = 2.0 * math.pi / abs(w) / n
-        # the times: made only if read (Solution.t calls this)
-        return self.evaluate(inputs, order=order, omega=w, joints=joints, t=lambda: k * dt)
+        cs = K.crank_cs(inputs, self.theta0) if self.drive is None or self.drive.__class__ is CrankDrive else None
+        for a in (k, inputs, *(cs or ())):
+            a.flags.writeable = False
+        if self._grid is None or len(self._grid) >= _GRIDS:
+            self._grid = {}
+        self._grid[n] = grid = (inputs, k, cs)
+        return grid
 
 
 def _held(out: K.DyadOut, shape: tuple[int, ...], order: int) -> K.DyadOut:

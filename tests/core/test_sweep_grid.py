@@ -1,0 +1,53 @@
+"""A plan keeps the input grid of its sweeps (the inputs, and the crank's cos and sin) between
+sweeps of one size: the results are those of a fresh plan bit for bit, and a solution handed out
+never shares a writable array with a later one."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from mechsketch.core.io.scene_file import load_scene
+from mechsketch.core.solver import kernels as K
+from mechsketch.core.solver.plan import compile_plan
+from mechsketch.resources import example_path
+
+
+def _four():
+    return load_scene(example_path("fourbar_crank_rocker")).elements[0]
+
+
+def test_repeated_sweeps_equal_a_fresh_plan_and_the_closed_form():
+    lk = _four()
+    plan = compile_plan(lk)
+    for n in (360, 3600, 360):      # a size again after another one: from the kept grid
+        sol = plan.sweep(n, order=2)
+        fresh = compile_plan(lk).sweep(n, order=2)
+        for j in lk.joint_ids:
+            for get in ("position", "velocity", "acceleration"):
+                assert np.array_equal(getattr(sol, get)(j), getattr(fresh, get)(j))
+        # the crank's rotation: cos and sin of the offset from the drawn angle, an independent form
+        c, s = sol.link_state(lk.driver.link).cs
+        th = np.sign(plan.omega) * 2.0 * np.pi * np.arange(n) / n
+        assert np.allclose(c, np.cos(th), atol=1e-12) and np.allclose(s, np.sin(th), atol=1e-12)
+
+
+def test_a_solution_is_not_changed_by_later_sweeps_or_by_its_reader():
+    plan = compile_plan(_four())
+    a = plan.sweep(360, order=2)
+    keep = a.input.copy(), a.position("E").copy()
+    a.input[:] = 0.0                 # the user's own copy of the inputs: writable, not shared
+    b = plan.sweep(360, order=2)
+    assert b.input is not a.input and np.array_equal(b.input, keep[0])
+    assert np.array_equal(a.position("E"), keep[1])
+    c, s = b.link_state(plan.linkage.driver.link).cs
+    with pytest.raises(ValueError):  # shared between sweeps: read-only
+        c[0] = 2.0
+    assert np.array_equal(b.position("E"), keep[1])
+
+
+def test_grid_cos_sin_bit_for_bit_with_the_kernel():
+    plan = compile_plan(_four())
+    sol = plan.sweep(1000, order=0)
+    c, s = K.crank_cs(sol.input, plan.theta0)
+    c1, s1 = sol.link_state(plan.linkage.driver.link).cs
+    assert np.array_equal(c, c1) and np.array_equal(s, s1)
