@@ -127,7 +127,7 @@ def _root(x: Arr, gap: Arr, tol: float) -> tuple[Arr, Arr, float | None]:
     x ≥ +0 there, and sqrt(x) is bit for bit sqrt(max(x, 0)), without the clamping pass and the
     masks (one reduction instead; a NaN margin fails it and takes the general path)."""
     if isinstance(gap, np.ndarray) and gap.ndim and gap.size:
-        g = gap.min()
+        g = _MIN(gap)   # gap.min() without its Python wrapper (the same reduction)
         if g >= 0.0:
             ok = np.empty(gap.shape, dtype=bool)   # np.ones: 0.4 µs more
             ok.fill(True)
@@ -265,6 +265,7 @@ def _slider(g: LinkState, s0: complex, u0: complex, s: Arr, sd: Arr | None, sdd:
 #: and 0-d float arrays for the sample arithmetic (an array operand skips numpy's scalar
 #: conversion, ~0.16 µs a pass; the same double either way, so the same bits)
 _CONST: dict = {}
+_MIN = np.minimum.reduce
 _ONE, _TWO = np.array(1.0), np.array(2.0)
 
 

@@ -57,6 +57,9 @@ class Plan:
     _every: tuple | None = field(default=None, repr=False)
     #: per sample count of the constant-speed sweeps: (inputs, k, crank (cos, sin)), read-only
     _grid: dict | None = field(default=None, repr=False)
+    #: the frame's state, shared by this plan's solves: scalars only (points and rates of drawn
+    #: positions, the same at every solve), so that each solve does not make them again
+    _ground: K.LinkState | None = field(default=None, repr=False)
 
     def local(self) -> "Plan":
         """This plan for the linkage moved so that its driver pivot sits at the origin (the
@@ -140,7 +143,10 @@ class Plan:
         drv = self.linkage.driver
         if states is None:
             states = {}
-        states[self.linkage.ground] = K.ground_state()
+        ground = self._ground
+        if ground is None:
+            ground = self._ground = K.ground_state()
+        states[self.linkage.ground] = ground
         if self.drive is None or cs is not None:
             states[drv.link] = K.crank(self.pivot, self.theta0, inputs, w, alpha, order, cs)
         else:
