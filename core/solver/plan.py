@@ -16,6 +16,7 @@ import numpy as np
 from ..errors import GeometryError, RequestError, UnknownIdError
 from ..model.drivers import DriverKind
 from ..model.linkage import JointKind, Linkage
+from . import fpquiet as _fp
 from . import kernels as K
 from .branches import find_branch_points, flip_factor
 from .drive import CrankDrive, find_linear_branch_points, linear_flip, make_drive
@@ -153,7 +154,8 @@ class Plan:
             self.drive.set_states(states, inputs, w, alpha, order)
         linear = self.drive is not None and self.drive.linear
         outs: dict[str, K.DyadOut] = {}
-        with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        token = _fp.enter()
+        try:
             for k in idx:
                 step = self.steps[k]
                 if step.group.fixed:
@@ -179,6 +181,8 @@ class Plan:
                 states[step.group.link_i] = out.state_i
                 states[step.group.link_j] = out.state_j
                 outs[step.group.name] = out
+        finally:
+            _fp.leave(token)
         return outs
 
     def evaluate(self, inputs, order: int = 2, omega: float | None = None, alpha: float = 0.0,
