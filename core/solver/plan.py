@@ -137,9 +137,10 @@ class Plan:
 
     def run_steps(self, inputs: np.ndarray, order: int, idx: Iterable[int],
                   branches: dict[str, np.ndarray], omega: float | None = None, alpha: float = 0.0,
-                  states: dict | None = None, cs: tuple | None = None) -> dict[str, K.DyadOut]:
+                  states: dict | None = None, crank: tuple | None = None) -> dict[str, K.DyadOut]:
         """Run the kernels of steps ``idx`` at ``inputs`` (the engine under :meth:`evaluate`).
-        ``cs``: the crank's (cos, sin) at ``inputs`` (:func:`~.kernels.crank_cs`), if known."""
+        ``crank``: for a sweep's inputs at the plan's constant speed, the crank's motion kept with
+        the input grid (:meth:`_make_grid`): its (cos, sin) and its points and their rates."""
         w = self.omega if omega is None else omega
         drv = self.linkage.driver
         if states is None:
@@ -148,8 +149,12 @@ class Plan:
         if ground is None:
             ground = self._ground = K.ground_state()
         states[self.linkage.ground] = ground
-        if self.drive is None or cs is not None:
-            states[drv.link] = K.crank(self.pivot, self.theta0, inputs, w, alpha, order, cs)
+        if crank is not None:
+            cs, points, rates = crank
+            st = states[drv.link] = K.crank(self.pivot, self.theta0, inputs, w, alpha, order, cs)
+            st.share_points(points, rates)
+        elif self.drive is None:
+            states[drv.link] = K.crank(self.pivot, self.theta0, inputs, w, alpha, order)
         else:
             self.drive.set_states(states, inputs, w, alpha, order)
         linear = self.drive is not None and self.drive.linear
@@ -199,8 +204,8 @@ class Plan:
             raise RequestError(f"order must be 0, 1 or 2, got {order}")
         return self._solve(inputs, order, omega, alpha, joints, t)
 
-    def _solve(self, inputs, order: int, omega, alpha, joints, t, cs: tuple | None = None) -> "Solution":
-        """:meth:`evaluate`; ``cs`` the crank's (cos, sin) at ``inputs``, if known (a sweep's)."""
+    def _solve(self, inputs, order: int, omega, alpha, joints, t, crank: tuple | None = None) -> "Solution":
+        """:meth:`evaluate`; ``crank``: the crank's motion kept with a sweep's grid (:meth:`run_steps`)."""
         every = self._every
         if joints is None and every is not None and every[1] is self._branches:   # every step's known
             idx, branches = every
@@ -217,7 +222,7 @@ class Plan:
         w = self.omega if omega is None else _rate(omega)
         alpha = _rate(alpha)
         states: dict[str, K.LinkState] = {}
-        outs = self.run_steps(inputs, order, idx, branches, w, alpha, states, cs)
+        outs = self.run_steps(inputs, order, idx, branches, w, alpha, states, crank)
         valid = None
         every = True        # every group found every sample assembled: valid is all True
         for out in outs.values():
@@ -253,26 +258,45 @@ class Plan:
             raise RequestError(f"order must be 0, 1 or 2, got {order}")
         w = self.omega
         grid = None if self._grid is None else self._grid.get(n)
-        inputs, k, cs = self._make_grid(n) if grid is None else grid
+        inputs, k, crank = self._make_grid(n) if grid is None else grid
         dt = 2.0 * math.pi / abs(w) / n
         # the inputs: a copy of the grid's (a solution's own); the times made only if read
-        # (Solution.t calls this); the crank's rotation shared, read-only
-        return self._solve(inputs.copy(), order, w, 0.0, joints, lambda: k * dt, cs)
+        # (Solution.t calls this); the crank's motion shared, read-only
+        return self._solve(inputs.copy(), order, w, 0.0, joints, lambda: k * dt, crank)
 
     def _make_grid(self, n: int) -> tuple:
         """The inputs of a constant-speed sweep of ``n`` samples, the sample numbers k and the
-        crank's (cos, sin) there (None for another drive), read-only and kept for the next
-        sweeps of ``n`` samples (the last few sizes)."""
+        crank's motion there (None for another drive): its (cos, sin), and per joint of the crank
+        other than its pivot [arm, point, velocity, acceleration] and [velocity, acceleration] as
+        its :class:`~.link_state.LinkState` computes them at the plan's speed (the crank's
+        :meth:`~.link_state.LinkState.share_points`). All read-only, kept for the next sweeps of
+        ``n`` samples (the last few sizes): the same at every sweep, they are computed once."""
         k = np.arange(n, dtype=float)   # the same values as int k times a float (exact below 2**53)
         sgn = 1.0 if self.omega >= 0 else -1.0
         inputs = sgn * (2.0 * math.pi / n) * k
         inputs += self.theta0           # θ0 + sgn·(2π/N)·k, in place (no second array)
-        cs = K.crank_cs(inputs, self.theta0) if self.drive is None or self.drive.__class__ is CrankDrive else None
-        for a in (k, inputs, *(cs or ())):
-            a.flags.writeable = False
+        frozen = [k, inputs]
+        crank = None
+        if self.drive is None or self.drive.__class__ is CrankDrive:
+            cs = K.crank_cs(inputs, self.theta0)
+            st = K.crank(self.pivot, self.theta0, inputs, self.omega, 0.0, 2, cs)
+            points, rates = {}, {}
+            for jid in self.linkage.link(self.linkage.driver.link).joints:
+                p0 = self.joint_at[jid][1]
+                if p0 == st.a0:      # the pivot: scalars, made as they are at every solve
+                    continue
+                arm = st.arm_xy(p0)
+                at, vel, acc = st.point_xy(p0), st.vel_xy(arm), st.acc_xy(arm)
+                points[p0], rates[p0] = [arm, at, vel, acc], [vel, acc]
+                frozen += [*arm, *at, *vel, *acc]
+            crank = (cs, points, rates)
+            frozen += cs
+        for a in frozen:
+            if isinstance(a, np.ndarray):
+                a.flags.writeable = False
         if self._grid is None or len(self._grid) >= _GRIDS:
             self._grid = {}
-        self._grid[n] = grid = (inputs, k, cs)
+        self._grid[n] = grid = (inputs, k, crank)
         return grid
 
 

@@ -51,3 +51,29 @@ def test_grid_cos_sin_bit_for_bit_with_the_kernel():
     c, s = K.crank_cs(sol.input, plan.theta0)
     c1, s1 = sol.link_state(plan.linkage.driver.link).cs
     assert np.array_equal(c, c1) and np.array_equal(s, s1)
+
+
+def test_crank_motion_kept_with_the_grid_is_the_states_own_bit_for_bit():
+    """The crank's points and rates kept with the grid equal what a solve at other inputs (no
+    grid: :meth:`Plan.evaluate`) computes at the same inputs, to the bit (signed zeros too), and
+    what a user gets of them is a writable copy."""
+    lk = _four()
+    plan = compile_plan(lk)
+    crank = lk.driver.link
+    for order in (0, 1, 2):
+        for _ in range(2):
+            sol = plan.sweep(360, order=order)
+            ref = plan.evaluate(sol.input.copy(), order=order)     # no grid: computed afresh
+            for j in lk.link(crank).joints:
+                for get in ("position", "velocity", "acceleration")[:order + 1]:
+                    a, b = getattr(sol, get)(j), getattr(ref, get)(j)
+                    assert a.tobytes() == b.tobytes()
+                    a[:] = 7.0                                     # the user's own copy
+    again = plan.sweep(360, order=2)
+    assert again.position("B").tobytes() == ref.position("B").tobytes()
+    assert again.velocity("B").tobytes() == ref.velocity("B").tobytes()
+    st = again.link_state(crank)
+    for v in st._points.values():
+        for pair in v:
+            for a in pair:
+                assert not (isinstance(a, np.ndarray) and a.flags.writeable)
