@@ -462,7 +462,10 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
         if still and order >= 1:   # a fixed guide: the slider translates, L moves as its anchor
             si.set_rates(l0, sj._vA_xy, sj._aA_xy if order >= 2 else None)    # ṡ·u, s̈·u: copies
         if still and isinstance(zx, float) and isinstance(zy, float) and isinstance(ux, float):
-            probe = lx + ly        # a fixed guide: the slider (z + s·u) is finite where L is
+            # a fixed guide: the slider (z + s·u) is finite where L is; with every margin finite
+            # (dn, so √ and s) and M known finite, so are d = z + b − M, du, s, r_i and L (short
+            # of overflow beyond 1e308, as above)
+            probe = 0.0 if gmin is not None and m_state.finite and math.isfinite(zx + zy + ux + uy) else lx + ly
         elif proved:
             probe = 0.0
         else:

@@ -81,11 +81,12 @@ class LinkState:
     Attributes: ``a0`` drawn anchor (complex, mm); ``A``, ``vA``, ``aA`` anchor position (mm),
     velocity (mm/s), acceleration (mm/s²), complex (N,) or scalars; ``rot`` exp(iρ) (N,);
     ``omega`` (rad/s), ``alpha`` (rad/s²) float (N,) or scalars. Derivatives are None below the
-    requested order. The same as (x, y) pairs of float (N,) arrays: ``xy``, ``cs`` (cos ρ, sin ρ),
+    requested order. ``finite``: True when every position of the link is known to be finite (the
+    frame; a crank over a sweep's grid), so that a kernel hanging on it may skip its probe. The same as (x, y) pairs of float (N,) arrays: ``xy``, ``cs`` (cos ρ, sin ρ),
     ``vxy``, ``axy``. Any point drawn at ``p0`` on the link is ``A + rot·(p0 − a0)``.
     """
 
-    __slots__ = ("a0", "omega", "alpha", "_w2", "_A", "_A_xy", "_rot", "_rot_xy", "_vA", "_vA_xy",
+    __slots__ = ("a0", "omega", "alpha", "finite", "_w2", "_A", "_A_xy", "_rot", "_rot_xy", "_vA", "_vA_xy",
                  "_aA", "_aA_xy", "_points", "_turn", "_rates")
 
     A, xy = _vec("A", "anchor position, mm")
@@ -131,6 +132,7 @@ class LinkState:
         self.omega, self.alpha = omega, alpha
         self._w2 = None
         self._points = self._rates = None
+        self.finite = False
 
     @classmethod
     def real(cls, a0: complex, xy: Pair, cs: Pair, vxy: Pair | None = None, omega=None,
@@ -145,6 +147,7 @@ class LinkState:
         st.omega, st.alpha = omega, alpha
         st._w2 = None
         st._points = st._rates = None
+        st.finite = False
         return st
 
     @classmethod
@@ -443,4 +446,6 @@ def _zero(p: Pair | None) -> bool:
 
 def ground_state() -> LinkState:
     """The frame: identity motion (scalars broadcast against sample arrays)."""
-    return LinkState.real(0j, (0.0, 0.0), (1.0, 0.0), (0.0, 0.0), 0.0, (0.0, 0.0), 0.0)
+    st = LinkState.real(0j, (0.0, 0.0), (1.0, 0.0), (0.0, 0.0), 0.0, (0.0, 0.0), 0.0)
+    st.finite = True
+    return st
