@@ -150,9 +150,9 @@ class Plan:
             ground = self._ground = K.ground_state()
         states[self.linkage.ground] = ground
         if crank is not None:
-            cs, points, rates, finite = crank
+            cs, points, rates, finite, rot = crank
             st = states[drv.link] = K.crank(self.pivot, self.theta0, inputs, w, alpha, order, cs)
-            st.share_points(points, rates)
+            st.share_points(points, rates, rot)
             st.finite = finite
         elif self.drive is None:
             states[drv.link] = K.crank(self.pivot, self.theta0, inputs, w, alpha, order)
@@ -270,7 +270,8 @@ class Plan:
         crank's motion there (None for another drive): its (cos, sin), and per joint of the crank
         other than its pivot [arm, point, velocity, acceleration] and [velocity, acceleration] as
         its :class:`~.link_state.LinkState` computes them at the plan's speed (the crank's
-        :meth:`~.link_state.LinkState.share_points`), and whether every position is finite. All read-only, kept for the next sweeps of
+        :meth:`~.link_state.LinkState.share_points`), whether every position is finite, and the
+        complex view of its rotation. All read-only, kept for the next sweeps of
         ``n`` samples (the last few sizes): the same at every sweep, they are computed once."""
         k = np.arange(n, dtype=float)   # the same values as int k times a float (exact below 2**53)
         sgn = 1.0 if self.omega >= 0 else -1.0
@@ -293,8 +294,9 @@ class Plan:
             # every position of the crank finite (pivot + arm: short of overflow, always)
             finite = all(bool(np.isfinite(p[1][0]).all() and np.isfinite(p[1][1]).all())
                          for p in points.values()) and math.isfinite(abs(self.pivot))
-            crank = (cs, points, rates, finite)
-            frozen += cs
+            rot = K.to_complex(*cs)   # its complex view (the kinetostatics read it)
+            crank = (cs, points, rates, finite, rot)
+            frozen += [*cs, rot]
         for a in frozen:
             if isinstance(a, np.ndarray):
                 a.flags.writeable = False
