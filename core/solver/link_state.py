@@ -324,8 +324,9 @@ class LinkState:
         x, y = self._A_xy or self.xy
         if p0 == self.a0 or _zero((ax, ay)):        # the anchor: a copy, no pass adding zero
             return _fill(out, x, y)
-        np.add(x, ax, out=out[:, 0])
-        np.add(y, ay, out=out[:, 1])
+        o = out.T                                   # its columns as rows: cheaper views
+        np.add(x, ax, out=o[0])
+        np.add(y, ay, out=o[1])
         return out
 
     def write_velocity(self, p0: complex, out: Arr) -> Arr:
@@ -345,10 +346,11 @@ class LinkState:
             if w == 0.0:
                 return _fill(out, vx, vy)
             if _zero((vx, vy)):
-                np.multiply(-w, ay, out=out[:, 0])
-                np.multiply(w, ax, out=out[:, 1])
+                o = out.T
+                np.multiply(-w, ay, out=o[0])
+                np.multiply(w, ax, out=o[1])
                 return out
-        o0, o1 = out[:, 0], out[:, 1]
+        o0, o1 = out.T
         t = w * ay
         if t.__class__ is np.ndarray and t.ndim == 1:   # a contiguous temporary: one strided pass
             np.subtract(vx, t, out=o0)
@@ -374,7 +376,7 @@ class LinkState:
         ax, ay = e[0]
         if ax.__class__ is float and ay.__class__ is float and ax == 0.0 and ay == 0.0:   # the anchor
             return _fill(out, gx, gy)
-        o0, o1 = out[:, 0], out[:, 1]
+        o0, o1 = out.T
         if isinstance(al, float) and al == 0.0:
             if isinstance(w, float) and w == 0.0:
                 return _fill(out, gx, gy)
@@ -433,11 +435,13 @@ def _fill(out: Arr, x, y) -> Arr:
                 return np.zeros(out.shape)   # +0.0: calloc'd, ~0.8 µs under a fill at N = 3,600
             out.fill(x)
         else:   # column fills: broadcasting a pair over (N, 2) is ~5× slower
-            out[:, 0].fill(x)
-            out[:, 1].fill(y)
+            o0, o1 = out.T
+            o0.fill(x)
+            o1.fill(y)
     else:
-        out[:, 0] = x
-        out[:, 1] = y
+        o = out.T   # the columns as rows of the transposed view: ~0.2 µs less than out[:, k]
+        o[0] = x
+        o[1] = y
     return out
 
 
