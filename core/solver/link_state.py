@@ -223,15 +223,13 @@ class LinkState:
                 for p0 in [p for p in cache if p not in drawn]:
                     del cache[p0]
 
-    def share_points(self, points: dict, rates: dict, rot=None) -> None:
+    def share_points(self, points: dict, rates: dict) -> None:
         """Start from the points and rates an identical state computed (``_points`` and
         ``_rates`` entries, complete: [arm, point, velocity, acceleration] and [velocity,
         acceleration]; read-only arrays), instead of computing them again; this state's own
-        caches are copies of the dicts (what it computes later is its own). ``rot``: the complex
-        view of its rotation (``to_complex(*cs)``, read-only), if made already."""
+        caches are copies of the dicts (what it computes later is its own; complete entries are
+        never written)."""
         self._points, self._rates = dict(points), dict(rates)
-        if rot is not None:
-            self._rot = rot
 
     def set_rates(self, p0: complex, vel: Pair | None, acc: Pair | None) -> None:
         """Record the velocity and acceleration (x, y) of the point drawn at ``p0`` as computed by

@@ -19,6 +19,7 @@ from ..model.linkage import JointKind, Linkage
 from . import fpquiet as _fp
 from . import kernels as K
 from .branches import find_branch_points, flip_factor
+from .grid import SweepGrid
 from .drive import CrankDrive, find_linear_branch_points, linear_flip, make_drive
 from .memory import reserve as _reserve
 from .motion_law import cycle
@@ -56,7 +57,7 @@ class Plan:
     joint_at: dict[str, tuple[str, complex]] = field(default_factory=dict, repr=False)
     #: (every step's index, the branch points) once every group's branch points are known
     _every: tuple | None = field(default=None, repr=False)
-    #: per sample count of the constant-speed sweeps: (inputs, k, crank (cos, sin)), read-only
+    #: per sample count, the input grid of the constant-speed sweeps (:mod:`.grid`), read-only
     _grid: dict | None = field(default=None, repr=False)
     #: the frame's state, shared by this plan's solves: scalars only (points and rates of drawn
     #: positions, the same at every solve), so that each solve does not make them again
@@ -137,10 +138,10 @@ class Plan:
 
     def run_steps(self, inputs: np.ndarray, order: int, idx: Iterable[int],
                   branches: dict[str, np.ndarray], omega: float | None = None, alpha: float = 0.0,
-                  states: dict | None = None, crank: tuple | None = None) -> dict[str, K.DyadOut]:
+                  states: dict | None = None, crank: "SweepGrid | None" = None) -> dict[str, K.DyadOut]:
         """Run the kernels of steps ``idx`` at ``inputs`` (the engine under :meth:`evaluate`).
-        ``crank``: for a sweep's inputs at the plan's constant speed, the crank's motion kept with
-        the input grid (:meth:`_make_grid`): its (cos, sin) and its points and their rates."""
+        ``crank``: for a sweep's inputs at the plan's constant speed, their :class:`~.grid.SweepGrid`
+        (the crank's cos/sin, and its points' motion once kept)."""
         w = self.omega if omega is None else omega
         drv = self.linkage.driver
         if states is None:
@@ -150,10 +151,8 @@ class Plan:
             ground = self._ground = K.ground_state()
         states[self.linkage.ground] = ground
         if crank is not None:
-            cs, points, rates, finite, rot = crank
-            st = states[drv.link] = K.crank(self.pivot, self.theta0, inputs, w, alpha, order, cs)
-            st.share_points(points, rates, rot)
-            st.finite = finite
+            st = states[drv.link] = K.crank(self.pivot, self.theta0, inputs, w, alpha, order, crank.cs)
+            crank.share(st)
         elif self.drive is None:
             states[drv.link] = K.crank(self.pivot, self.theta0, inputs, w, alpha, order)
         else:
@@ -205,7 +204,7 @@ class Plan:
             raise RequestError(f"order must be 0, 1 or 2, got {order}")
         return self._solve(inputs, order, omega, alpha, joints, t)
 
-    def _solve(self, inputs, order: int, omega, alpha, joints, t, crank: tuple | None = None) -> "Solution":
+    def _solve(self, inputs, order: int, omega, alpha, joints, t, crank: "SweepGrid | None" = None) -> "Solution":
         """:meth:`evaluate`; ``crank``: the crank's motion kept with a sweep's grid (:meth:`run_steps`)."""
         every = self._every
         if joints is None and every is not None and every[1] is self._branches:   # every step's known
@@ -259,50 +258,26 @@ class Plan:
             raise RequestError(f"order must be 0, 1 or 2, got {order}")
         w = self.omega
         grid = None if self._grid is None else self._grid.get(n)
-        inputs, k, crank = self._make_grid(n) if grid is None else grid
+        if grid is None:
+            grid = self._make_grid(n)
+        k = grid.k
         dt = 2.0 * math.pi / abs(w) / n
         # the inputs: a copy of the grid's (a solution's own); the times made only if read
         # (Solution.t calls this); the crank's motion shared, read-only
-        return self._solve(inputs.copy(), order, w, 0.0, joints, lambda: k * dt, crank)
+        sol = self._solve(grid.inputs.copy(), order, w, 0.0, joints, lambda: k * dt,
+                          grid if grid.cs is not None else None)
+        if grid.points is None and grid.cs is not None:
+            grid.harvest(sol._states.get(self.linkage.driver.link), order)
+        return sol
 
-    def _make_grid(self, n: int) -> tuple:
-        """The inputs of a constant-speed sweep of ``n`` samples, the sample numbers k and the
-        crank's motion there (None for another drive): its (cos, sin), and per joint of the crank
-        other than its pivot [arm, point, velocity, acceleration] and [velocity, acceleration] as
-        its :class:`~.link_state.LinkState` computes them at the plan's speed (the crank's
-        :meth:`~.link_state.LinkState.share_points`), whether every position is finite, and the
-        complex view of its rotation. All read-only, kept for the next sweeps of
-        ``n`` samples (the last few sizes): the same at every sweep, they are computed once."""
-        k = np.arange(n, dtype=float)   # the same values as int k times a float (exact below 2**53)
-        sgn = 1.0 if self.omega >= 0 else -1.0
-        inputs = sgn * (2.0 * math.pi / n) * k
-        inputs += self.theta0           # θ0 + sgn·(2π/N)·k, in place (no second array)
-        frozen = [k, inputs]
-        crank = None
-        if self.drive is None or self.drive.__class__ is CrankDrive:
-            cs = K.crank_cs(inputs, self.theta0)
-            st = K.crank(self.pivot, self.theta0, inputs, self.omega, 0.0, 2, cs)
-            points, rates = {}, {}
-            for jid in self.linkage.link(self.linkage.driver.link).joints:
-                p0 = self.joint_at[jid][1]
-                if p0 == st.a0:      # the pivot: scalars, made as they are at every solve
-                    continue
-                arm = st.arm_xy(p0)
-                at, vel, acc = st.point_xy(p0), st.vel_xy(arm), st.acc_xy(arm)
-                points[p0], rates[p0] = [arm, at, vel, acc], [vel, acc]
-                frozen += [*arm, *at, *vel, *acc]
-            # every position of the crank finite (pivot + arm: short of overflow, always)
-            finite = all(bool(np.isfinite(p[1][0]).all() and np.isfinite(p[1][1]).all())
-                         for p in points.values()) and math.isfinite(abs(self.pivot))
-            rot = K.to_complex(*cs)   # its complex view (the kinetostatics read it)
-            crank = (cs, points, rates, finite, rot)
-            frozen += [*cs, rot]
-        for a in frozen:
-            if isinstance(a, np.ndarray):
-                a.flags.writeable = False
+    def _make_grid(self, n: int) -> SweepGrid:
+        """A new :class:`~.grid.SweepGrid` for sweeps of ``n`` samples, kept (the last few sizes)."""
+        crank = self.drive is None or self.drive.__class__ is CrankDrive
+        drawn = [self.joint_at[j][1] for j in self.linkage.link(self.linkage.driver.link).joints] if crank else None
+        grid = SweepGrid(n, self.omega, self.theta0, drawn)
         if self._grid is None or len(self._grid) >= _GRIDS:
             self._grid = {}
-        self._grid[n] = grid = (inputs, k, crank)
+        self._grid[n] = grid
         return grid
 
 
