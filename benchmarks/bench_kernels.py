@@ -124,6 +124,7 @@ def measure_main(Ns, budget: float) -> list[dict]:
     for label, name, make in CASES:
         lk = example(name)
         plan = compile_plan(lk)
+        cold_plan = compile_plan(lk)   # its own plan: dropping its grid leaves ``plan``'s alone
         hand = make(lk)
         joints = list(lk.joint_ids)
         refs = References(lk)
@@ -138,8 +139,8 @@ def measure_main(Ns, budget: float) -> list[dict]:
                 res["cold"] = res["ours"]
 
                 def cold(o=order, N=N):
-                    plan._grid = None          # the input grid made again, as at a first sweep
-                    return ours(plan, joints, N, o)
+                    cold_plan._grid = None     # the input grid made again, as at a first sweep
+                    return ours(cold_plan, joints, N, o)
 
                 jobs = {"ours": lambda o=order, N=N: ours(plan, joints, N, o),
                         "hand": lambda o=order, N=N: hand(N, o), "cold": cold}

@@ -4,8 +4,8 @@ Every sweep of N samples of a crank at its constant speed has the same inputs, s
 rotation (cos, sin), and the same motion of the crank's points (arm, position, velocity and
 acceleration at the plan's speed). :class:`SweepGrid` keeps them, per plan and sample count
 (:meth:`~.plan.Plan.sweep`): the inputs and cos/sin are made with the grid, the crank's points are
-taken from the crank state of the first full sweep of order 2 that computed them
-(:meth:`SweepGrid.harvest`), so that a first sweep costs what it did without the grid. Later
+taken from the crank state of the second sweep of order 2 that computed them
+(:meth:`SweepGrid.harvest`), so that a size swept once costs what it did without the grid. Later
 sweeps start their crank state from them (:meth:`~.link_state.LinkState.share_points`) instead of
 computing them again: the same functions on the same inputs, so the same bits.
 
@@ -37,19 +37,27 @@ class SweepGrid:
     pairs of float (N,) arrays; mm, mm/s, mm/s²) and ``finite`` (every crank position is
     finite)."""
 
-    __slots__ = ("inputs", "k", "cs", "points", "rates", "finite", "_drawn")
+    __slots__ = ("inputs", "k", "cs", "points", "rates", "finite", "_drawn", "_full")
 
     def __init__(self, n: int, omega: float, theta0: float, crank_drawn: list[complex] | None) -> None:
-        k = np.arange(n, dtype=float)   # the same values as int k times a float (exact below 2**53)
+        # rows of one buffer, made read-only at once (views taken after that are read-only too)
+        buf = np.empty((2 if crank_drawn is None else 4, n))
+        k, inputs = buf[0], buf[1]
+        k[:] = np.arange(n, dtype=float)   # the same values as int k times a float (exact below 2**53)
         sgn = 1.0 if omega >= 0 else -1.0
-        inputs = sgn * (2.0 * math.pi / n) * k
-        inputs += theta0                # θ0 + sgn·(2π/N)·k, in place (no second array)
-        self.inputs, self.k = inputs, k
-        self.cs = None if crank_drawn is None else K.crank_cs(inputs, theta0)
-        _freeze(inputs, k, *(self.cs or ()))
+        np.multiply(sgn * (2.0 * math.pi / n), k, out=inputs)
+        inputs += theta0                # θ0 + sgn·(2π/N)·k, in place
+        if crank_drawn is not None:     # as K.crank_cs: cos and sin of inputs − θ0
+            th = inputs - theta0
+            np.cos(th, out=buf[2])
+            np.sin(th, out=buf[3])
+        buf.flags.writeable = False
+        self.inputs, self.k = buf[1], buf[0]
+        self.cs = None if crank_drawn is None else (buf[2], buf[3])
         self.points = self.rates = None
         self.finite = False
         self._drawn = crank_drawn
+        self._full = 0             # order-2 sweeps on this grid before its points were kept
 
     def share(self, st: LinkState) -> None:
         """Start the crank state ``st`` of a sweep on this grid from the kept motion, if any."""
@@ -59,9 +67,13 @@ class SweepGrid:
 
     def harvest(self, st: LinkState | None, order: int) -> None:
         """Keep the motion of the crank's points that ``st``, the crank state of a sweep of
-        ``order`` on this grid, computed (made here if it did not: the same methods); only after
-        a sweep of order 2 (the rates are those of the plan's constant speed)."""
+        ``order`` on this grid, computed (made here if it did not: the same methods); after the
+        second sweep of order 2 (the rates are those of the plan's constant speed), so that a
+        size swept once pays nothing for it (making arrays read-only costs ~1 µs each)."""
         if st is None or order < 2 or self.points is not None or self._drawn is None:
+            return
+        self._full += 1
+        if self._full < 2:
             return
         points, rates = {}, {}
         for p0 in self._drawn:
