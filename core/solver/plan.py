@@ -62,6 +62,8 @@ class Plan:
     #: the frame's state, shared by this plan's solves: scalars only (points and rates of drawn
     #: positions, the same at every solve), so that each solve does not make them again
     _ground: K.LinkState | None = field(default=None, repr=False)
+    #: per step (the step, fixed, group name, link i, link j): what a solve reads of its group
+    _flat: list | None = field(default=None, repr=False)
 
     def local(self) -> "Plan":
         """This plan for the linkage moved so that its driver pivot sits at the origin (the
@@ -161,12 +163,16 @@ class Plan:
         outs: dict[str, K.DyadOut] = {}
         token = _fp.enter()
         try:
+            flat = self._flat
+            if flat is None or len(flat) != len(self.steps):
+                flat = self._flat = [(s, s.group.fixed, s.group.name, s.group.link_i, s.group.link_j)
+                                     for s in self.steps]
             for k in idx:
-                step = self.steps[k]
-                if step.group.fixed:
+                step, fixed, name, link_i, link_j = flat[k]
+                if fixed:
                     out = _held(step.run(states, order, None), inputs.shape, order)
                 else:
-                    offsets = branches.get(step.group.name)
+                    offsets = branches.get(name)
                     flip = (None if offsets is None or not offsets.size else   # no branch point: both give None
                             linear_flip(offsets, inputs, self.theta0) if linear else
                             flip_factor(offsets, inputs, self.theta0, self.direction))
@@ -183,9 +189,9 @@ class Plan:
                     probe = xi + yi + ci + si + xj + yj + cj + sj
                 if not (type(probe) is float and math.isfinite(probe)):   # finite float: proved finite
                     out.ok, out.every = out.ok & np.isfinite(probe), False
-                states[step.group.link_i] = out.state_i
-                states[step.group.link_j] = out.state_j
-                outs[step.group.name] = out
+                states[link_i] = out.state_i
+                states[link_j] = out.state_j
+                outs[name] = out
         finally:
             _fp.leave(token)
         return outs
@@ -219,8 +225,9 @@ class Plan:
             inputs = np.asarray(inputs, dtype=float).reshape(-1)
         if inputs.shape[0] > _reserved_for:
             _reserve(inputs.shape[0])
-        w = self.omega if omega is None else _rate(omega)
-        alpha = _rate(alpha)
+        w = self.omega if omega is None else omega if omega.__class__ is float else _rate(omega)
+        if alpha.__class__ is not float:
+            alpha = _rate(alpha)
         states: dict[str, K.LinkState] = {}
         outs = self.run_steps(inputs, order, idx, branches, w, alpha, states, crank)
         valid = None
