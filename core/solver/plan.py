@@ -59,9 +59,9 @@ class Plan:
     _every: tuple | None = field(default=None, repr=False)
     #: per sample count, the input grid of the constant-speed sweeps (:mod:`.grid`), read-only
     _grid: dict | None = field(default=None, repr=False)
-    #: the frame's state, shared by this plan's solves: scalars only (points and rates of drawn
-    #: positions, the same at every solve), so that each solve does not make them again
-    _ground: K.LinkState | None = field(default=None, repr=False)
+    #: the frame's points and their rates at its joints' drawn positions (scalars, the same at
+    #: every solve; :meth:`_frame_template`): each solve's frame state starts from copies of them
+    _ground: tuple | None = field(default=None, repr=False)
     #: per step (the step, fixed, group name, link i, link j): what a solve reads of its group
     _flat: list | None = field(default=None, repr=False)
 
@@ -148,9 +148,11 @@ class Plan:
         drv = self.linkage.driver
         if states is None:
             states = {}
-        ground = self._ground
-        if ground is None:
-            ground = self._ground = K.ground_state()
+        frame = self._ground
+        if frame is None:
+            frame = self._ground = self._frame_template()
+        ground = K.ground_state()
+        ground.share_points(*frame)
         states[self.linkage.ground] = ground
         if crank is not None:
             st = states[drv.link] = K.crank(self.pivot, self.theta0, inputs, w, alpha, order, crank.cs)
@@ -276,6 +278,20 @@ class Plan:
         if grid.points is None and grid.cs is not None:
             grid.harvest(sol._states.get(self.linkage.driver.link), order)
         return sol
+
+    def _frame_template(self) -> tuple:
+        """(points, rates) caches of the frame's state at its joints' drawn positions, complete
+        ([arm, point] and [velocity, acceleration], scalars), for
+        :meth:`~.link_state.LinkState.share_points` (each solve gets its own copies of the dicts:
+        complete entries are never written, so solves in several threads do not race on them)."""
+        st = K.ground_state()
+        for j in self.linkage.link(self.linkage.ground).joints:
+            p0 = self.joint_at[j][1]
+            arm = st.arm_xy(p0)
+            st.point_xy(p0)
+            st.vel_at(p0, arm)
+            st.acc_at(p0, arm)
+        return st._points or {}, st._rates or {}
 
     def _make_grid(self, n: int) -> SweepGrid:
         """A new :class:`~.grid.SweepGrid` for sweeps of ``n`` samples, kept (the last few sizes)."""

@@ -97,3 +97,21 @@ def test_sweep_from_the_grid_equals_a_solve_without_it(name):
                     assert getattr(sol, get)(j).tobytes() == getattr(ref, get)(j).tobytes(), (j, get)
             for k in lk.moving_links:
                 assert sol.alpha(k).tobytes() == ref.alpha(k).tobytes()
+
+
+def test_sweeps_of_one_plan_in_threads_equal_a_serial_sweep():
+    """What solves share (the grid, the crank's kept motion, the frame's template) is complete
+    before it is shared: solves of one plan in several threads give the serial result."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    lk = load_scene(example_path("sixbar_moving_guide")).elements[0]
+    ref = compile_plan(lk).evaluate(compile_plan(lk).sweep(360).input.copy(), order=2)
+    plan = compile_plan(lk)
+
+    def one(_):
+        sol = plan.sweep(360, order=2)
+        return all(getattr(sol, get)(j).tobytes() == getattr(ref, get)(j).tobytes()
+                   for j in lk.joint_ids for get in ("position", "velocity", "acceleration"))
+
+    with ThreadPoolExecutor(4) as ex:
+        assert all(ex.map(one, range(40)))
