@@ -8,7 +8,11 @@ six-bar with a moving guide (sixbar_moving_guide), at each N, order 2 (positions
 accelerations) and order 0 (positions):
 
 * ``ours``: ``plan.sweep(N, order)`` plus every joint's (N, 2) arrays (``Solution.position``,
-  ``velocity``, ``acceleration``), compile excluded, warm;
+  ``velocity``, ``acceleration``), compile excluded, warm: the plan keeps the input grid of its
+  sweeps of N samples (the inputs, the crank's cos/sin and its points' motion, read-only), as it
+  does for every later sweep of that size in the app;
+* ``ours, no grid``: the same with the plan's kept grid dropped before each sweep (what the first
+  sweep of a size costs; the hand form computes its crank every time);
 * ``hand``: the same arrays from a hand-written numpy closed form of that mechanism
   (:mod:`kernels_hand`: real arithmetic, one determinant per group, each joint once) — the floor;
 * ``pylinkage``, ``Linkage.step_fast`` / ``step_fast_with_kinematics`` (numba), if importable: the
@@ -120,6 +124,7 @@ def measure_main(Ns, budget: float) -> list[dict]:
     for label, name, make in CASES:
         lk = example(name)
         plan = compile_plan(lk)
+        cold_plan = compile_plan(lk)   # its own plan: dropping its grid leaves ``plan``'s alone
         hand = make(lk)
         joints = list(lk.joint_ids)
         refs = References(lk)
@@ -131,8 +136,14 @@ def measure_main(Ns, budget: float) -> list[dict]:
             py = pylinkage_job(label, lk, N)
             for order in (2, 0):
                 res = {"ours": ours(plan, joints, N, order), "hand": hand(N, order)}
+                res["cold"] = res["ours"]
+
+                def cold(o=order, N=N):
+                    cold_plan._grid = None     # the input grid made again, as at a first sweep
+                    return ours(cold_plan, joints, N, o)
+
                 jobs = {"ours": lambda o=order, N=N: ours(plan, joints, N, o),
-                        "hand": lambda o=order, N=N: hand(N, o)}
+                        "hand": lambda o=order, N=N: hand(N, o), "cold": cold}
                 if py is not None:
                     run, col, _ = py
                     P, V, A = run(order)
@@ -179,8 +190,10 @@ def fmt_err(x: float) -> str:
 
 def fmt_row(row: dict) -> str:
     o, h = row["ours"], row["hand"]
+    c = row["cold"]
     s = (f"| {row['case']} | {row['N']:,} | {row['order']} | {o['best']:.4f} / {o['median']:.4f} | "
-         f"{h['best']:.4f} / {h['median']:.4f} | {o['best'] / h['best']:.2f} | ")
+         f"{h['best']:.4f} / {h['median']:.4f} | {o['best'] / h['best']:.2f} | "
+         f"{c['best']:.4f} ({c['best'] / h['best']:.2f}×) | ")
     p = row.get("pylinkage")
     s += f"{p['best']:.4f} ({o['best'] / p['best']:.2f}×) | " if p else "— | "
     s += (f"{fmt_err(o['pos'])} {fmt_err(o['vel'])} {fmt_err(o['acc'])} | "
@@ -190,8 +203,9 @@ def fmt_row(row: dict) -> str:
 
 
 HEADER = ("| mechanism | N | order | ours µs/sample best / median | hand µs/sample best / median | "
-          "ours / hand | pylinkage µs/sample (ours / py) | ours err pos vel acc | hand err | py err |\n"
-          "|---|---|---|---|---|---|---|---|---|---|")
+          "ours / hand | ours, no grid µs/sample (/ hand) | pylinkage µs/sample (ours / py) | "
+          "ours err pos vel acc | hand err | py err |\n"
+          "|---|---|---|---|---|---|---|---|---|---|---|")
 
 
 # ---------------------------------------------------------------------------------------------

@@ -21,11 +21,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from .link_state import LinkState, ground_state, to_complex
+from .skip_ops import _add, _minus, _pair, _sc, _sub
 
 Arr = np.ndarray  # complex (N,) for points/vectors, float (N,) for scalars
 
 __all__ = ["DyadOut", "LinkState", "PARALLEL_COND", "Slide", "crank", "cross", "dot", "ground_state",
-           "prp", "rpp", "rpr", "rrp", "rrr", "solve2", "to_complex"]
+           "crank_cs", "prp", "rpp", "rpr", "rrp", "rrr", "solve2", "to_complex"]
 
 
 def cross(a: Arr, b: Arr) -> Arr:
@@ -127,7 +128,7 @@ def _root(x: Arr, gap: Arr, tol: float) -> tuple[Arr, Arr, float | None]:
     x ≥ +0 there, and sqrt(x) is bit for bit sqrt(max(x, 0)), without the clamping pass and the
     masks (one reduction instead; a NaN margin fails it and takes the general path)."""
     if isinstance(gap, np.ndarray) and gap.ndim and gap.size:
-        g = gap.min()
+        g = _MIN(gap)   # gap.min() without its Python wrapper (the same reduction)
         if g >= 0.0:
             ok = np.empty(gap.shape, dtype=bool)   # np.ones: 0.4 µs more
             ok.fill(True)
@@ -151,74 +152,24 @@ def _floor(num: float, den: float) -> float:
     return 0.0
 
 
-def crank(pivot: complex, a0_angle: float, inputs: Arr, omega: float | Arr, alpha: float | Arr,
-          order: int) -> LinkState:
-    """The driver: rotation about a ground pivot by ``inputs − a0_angle`` (rad)."""
+def crank_cs(inputs: Arr, a0_angle: float) -> tuple[Arr, Arr]:
+    """(cos, sin) of ``inputs − a0_angle``, float (N,): the driver's rotation from the drawn pose."""
     th = inputs - a0_angle
-    c = np.cos(th)
+    return np.cos(th), np.sin(th, out=th)   # sin into th
+
+
+def crank(pivot: complex, a0_angle: float, inputs: Arr, omega: float | Arr, alpha: float | Arr,
+          order: int, cs: tuple[Arr, Arr] | None = None) -> LinkState:
+    """The driver: rotation about a ground pivot by ``inputs − a0_angle`` (rad). ``cs``: its
+    :func:`crank_cs`, if the caller keeps it (a plan keeps the read-only (cos, sin) of its sweeps'
+    input grids; nothing writes into a state's arrays)."""
     # the anchor (the pivot) as scalars, like the frame's: points of the crank are pivot + arm
-    st = LinkState.real(pivot, (pivot.real, pivot.imag), (c, np.sin(th, out=th)))   # sin into th
+    st = LinkState.real(pivot, (pivot.real, pivot.imag), crank_cs(inputs, a0_angle) if cs is None else cs)
     if order >= 1:
         st._vA_xy, st.omega = (0.0, 0.0), omega      # slots: the state is new, no complex view
     if order >= 2:
         st._aA_xy, st.alpha = (0.0, 0.0), alpha
     return st
-
-
-def _full(v, shape):
-    """``v`` as an array of ``shape`` if it is a scalar (rates of a slider keep the samples' shape)."""
-    if shape and (not isinstance(v, np.ndarray) or v.ndim == 0):
-        out = np.empty(shape)
-        out.fill(v)
-        return out
-    return v
-
-
-def _pair(x, y, shape) -> tuple:
-    """(x, y) with at least one component of ``shape``: a constant component of a vector that
-    varies stays a scalar (a guide along an axis), a constant vector becomes arrays."""
-    if isinstance(x, np.ndarray) and x.ndim or isinstance(y, np.ndarray) and y.ndim:
-        return x, y
-    return _full(x, shape), _full(y, shape)
-
-
-def _sc(a, x):
-    """a·x, without the pass for a scalar ``a`` of 1, −1 or 0 (a guide along an axis; 0 gives the
-    scalar 0.0, which :func:`_add` and :func:`_sub` then skip)."""
-    if isinstance(a, float):
-        if a == 1.0:
-            return x
-        if a == 0.0:
-            return 0.0
-        if a == -1.0:
-            return -x
-    return a * x
-
-
-def _add(a, b):
-    """a + b, skipping a scalar zero term."""
-    if isinstance(b, float) and b == 0.0:
-        return a
-    if isinstance(a, float) and a == 0.0:
-        return b
-    return a + b
-
-
-def _sub(a, b):
-    """a − b, skipping a scalar zero term."""
-    if isinstance(b, float) and b == 0.0:
-        return a
-    if isinstance(a, float) and a == 0.0:
-        return -b
-    return a - b
-
-
-def _minus(a: tuple, b: tuple) -> tuple:
-    """(x, y) of a − b, without passes when ``b`` is a pair of scalar zeros."""
-    bx, by = b
-    if isinstance(bx, float) and isinstance(by, float) and bx == 0.0 and by == 0.0:
-        return a
-    return a[0] - bx, a[1] - by
 
 
 def _slider(g: LinkState, s0: complex, u0: complex, s: Arr, sd: Arr | None, sdd: Arr | None,
@@ -259,6 +210,7 @@ def _slider(g: LinkState, s0: complex, u0: complex, s: Arr, sd: Arr | None, sdd:
 #: and 0-d float arrays for the sample arithmetic (an array operand skips numpy's scalar
 #: conversion, ~0.16 µs a pass; the same double either way, so the same bits)
 _CONST: dict = {}
+_MIN = np.minimum.reduce
 _ONE, _TWO = np.array(1.0), np.array(2.0)
 
 
@@ -304,11 +256,17 @@ def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: co
     mx, my = m_state.point_xy(m0)
     hx, hy = h_state.point_xy(h0)
     dx, dy = hx - mx, hy - my
-    D2 = dx * dx + dy * dy
+    # (augmented assignments below work in place on this kernel's own temporaries — the same
+    # operations in the same order, one allocation less each — and rebind scalars)
+    D2 = dx * dx
+    D2 += dy * dy
     D = np.sqrt(D2)
     # Heron in factored form: accurate near toggles (paper eq. 1 via atan2/Heron, notes §A)
     f1, f2, f3 = SL - D, D - DL, D + DL
-    prod = (D + SL) * f1 * f2 * f3
+    prod = D + SL
+    prod *= f1
+    prod *= f2
+    prod *= f3
     # min(f2, f3) is D − |li − lj|: f2 for li ≥ lj (rounding is monotonic: D − DL ≤ D ≤ D + DL)
     gap = np.minimum(f1, f2 if dl >= 0.0 else f3)
     root, ok, gmin = _root(prod, gap, tol)
@@ -324,26 +282,37 @@ def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: co
     # L in polar form, |L − M| = li exactly. (x, h) lose accuracy like eps·li²/D where M and H
     # nearly coincide (li ≈ lj), and the Cartesian form then left the loop open by up to li.
     # The common factor 1/(2D) of x and h cancels in q/|q|.
-    x = DLSL + D2
+    x = D2                                               # D² + (li² − lj²), D2's own array
+    x += DLSL
     h = root if (flip is None and mode0 == 1.0) else mode * root
-    t = LI / (np.sqrt(x * x + h * h) * D)
-    x = x * t
-    h = h * t
-    rix, riy = x * dx - h * dy, x * dy + h * dx          # L − M
+    q = x * x
+    q += h * h
+    t = LI / (np.sqrt(q) * D)
+    x *= t
+    h *= t
+    rix = x * dx                                         # L − M
+    rix -= h * dy
+    riy = x * dy
+    riy += h * dx
     lx, ly = mx + rix, my + riy
     rjx, rjy = lx - hx, ly - hy                          # L − H
     si = LinkState.turned(m0, (mx, my), (rix, riy), l0 - m0)
     sj = LinkState.turned(h0, (hx, hy), (rjx, rjy), l0 - h0)
     si.set_point(l0, (rix, riy), (lx, ly))
     # velocity system (eq. 2): i·ω_i·r_i − i·ω_j·r_j = v_H − v_M, det = cross(J·ri, −J·rj)
-    det = riy * rjx - rix * rjy
+    det = riy * rjx
+    det -= rix * rjy
     cond = lambda: np.abs(det) / LILJ                    # noqa: E731 (made if read)
     if order >= 1:
         inv = _ONE / det
         vM, vH = m_state.vel_at(m0, armM), h_state.vel_at(h0, armH)
         wx, wy = _minus(vM, vH)                          # −(right-hand side)
-        wi = (wx * rjx + wy * rjy) * inv
-        wj = (rix * wx + riy * wy) * inv
+        wi = wx * rjx
+        wi += wy * rjy
+        wi *= inv
+        wj = rix * wx
+        wj += riy * wy
+        wj *= inv
         si._vA_xy, si.omega, sj._vA_xy, sj.omega = vM, wi, vH, wj   # new states: set the slots
     if order >= 2:
         aM, aH = m_state.acc_at(m0, armM), h_state.acc_at(h0, armH)
@@ -351,10 +320,18 @@ def rrr(m_state: LinkState, m0: complex, h_state: LinkState, h0: complex, l0: co
         si.set_omega2(wi2)
         sj.set_omega2(wj2)
         qx, qy = _minus(aM, aH)                          # −(eq. 3's right-hand side)
-        qx = qx - wi2 * rix + wj2 * rjx
-        qy = qy - wi2 * riy + wj2 * rjy
-        si._aA_xy, si.alpha = aM, (qx * rjx + qy * rjy) * inv
-        sj._aA_xy, sj.alpha = aH, (rix * qx + riy * qy) * inv
+        qx = qx - wi2 * rix                              # (aM's own arrays are not written)
+        qx += wj2 * rjx
+        qy = qy - wi2 * riy
+        qy += wj2 * rjy
+        ai = qx * rjx
+        ai += qy * rjy
+        ai *= inv
+        aj = rix * qx
+        aj += riy * qy
+        aj *= inv
+        si._aA_xy, si.alpha = aM, ai
+        sj._aA_xy, sj.alpha = aH, aj
     # L finite: M and L − M are; with H finite both links' states are
     if (every and isinstance(hx, float) and abs(hx) + abs(hy) < 1e200 and 1e-60 < sl < 1e60
             and abs(dl) > max(near, 1e-8 * sl)):
@@ -389,17 +366,38 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
     bx, by = g.rotate(l0 - s0) if l0 != s0 else (0.0, 0.0)
     dx, dy = np.subtract(_add(zx, bx), mx), np.subtract(_add(zy, by), my)   # numpy even for scalars
     arr = ux.__class__ is np.ndarray and uy.__class__ is np.ndarray   # a turning guide: no scalar terms
-    du = ux * dx + uy * dy if arr else _add(_sc(ux, dx), _sc(uy, dy))
-    dn = ux * dy - uy * dx if arr else _sub(_sc(ux, dy), _sc(uy, dx))  # signed eccentricity e_s + l_j sin φ_jq − M·n (A1–A3 corrected)
+    # (augmented assignments work in place on this kernel's own temporaries — the same operations
+    # in the same order, one allocation less each — and rebind scalars)
+    if arr:
+        du = ux * dx
+        du += uy * dy
+        dn = ux * dy                                     # signed eccentricity e_s + l_j sin φ_jq − M·n
+        dn -= uy * dx                                    # (A1–A3 corrected)
+    else:
+        du = _add(_sc(ux, dx), _sc(uy, dy))
+        dn = _sub(_sc(ux, dy), _sc(uy, dx))
     gap = LI - np.abs(dn)
-    root, ok, gmin = _root((LI - dn) * (LI + dn), gap, tol)
-    s = (root - du) if (flip is None and mode0 == 1.0) else mode * root - du
-    rix, riy = (dx + ux * s, dy + uy * s) if arr else (_add(dx, _sc(ux, s)), _add(dy, _sc(uy, s)))
+    pr = LI - dn
+    pr *= LI + dn
+    root, ok, gmin = _root(pr, gap, tol)
+    s = root if (flip is None and mode0 == 1.0) else mode * root   # root: _root's own array
+    s -= du
+    if arr:
+        rix = ux * s                                     # d + s·u (the same sum, either order)
+        rix += dx
+        riy = uy * s
+        riy += dy
+    else:
+        rix, riy = _add(dx, _sc(ux, s)), _add(dy, _sc(uy, s))
     si = LinkState.turned(m0, (mx, my), (rix, riy), l0 - m0)
     lx, ly = mx + rix, my + riy
     si.set_point(l0, (rix, riy), (lx, ly))
     # columns c1 = u, c2 = −J·ri: det = −(u·ri)
-    udr = ux * rix + uy * riy if arr else _add(_sc(ux, rix), _sc(uy, riy))
+    if arr:
+        udr = ux * rix
+        udr += uy * riy
+    else:
+        udr = _add(_sc(ux, rix), _sc(uy, riy))
     cond = lambda: np.abs(udr) / LI                      # noqa: E731 (made if read)
     still = g.still()
     # every margin finite: dn = u × d is, which on a turning guide (u arrays, every product
@@ -421,8 +419,15 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
         else:
             vLx, vLy = g.vel_xy(armL)
             wx, wy = vM[0] - vLx, vM[1] - vLy
-        sd = (wx * rix + wy * riy) * inv                 # eq. 6 with correction A4
-        wi = (uy * wx - ux * wy if arr else _sub(_sc(uy, wx), _sc(ux, wy))) * inv
+        sd = wx * rix                                    # eq. 6 with correction A4
+        sd += wy * riy
+        sd *= inv
+        if arr:
+            wi = uy * wx
+            wi -= ux * wy
+            wi *= inv
+        else:
+            wi = _sub(_sc(uy, wx), _sc(ux, wy)) * inv
         si._vA_xy, si.omega = vM, wi
     if order >= 2:
         aM = m_state.acc_at(m0, armM)
@@ -433,10 +438,23 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
         if not still:
             aLx, aLy = g.acc_xy(armL)
             cor = _TWO * g.omega * sd
-            qx, qy = ((qx - aLx + uy * cor, qy - aLy - ux * cor) if arr else             # eq. 7
-                      (_add(qx - aLx, _sc(uy, cor)), _sub(qy - aLy, _sc(ux, cor))))
-        sdd = (qx * rix + qy * riy) * inv
-        si._aA_xy, si.alpha = aM, (uy * qx - ux * qy if arr else _sub(_sc(uy, qx), _sc(ux, qy))) * inv
+            if arr:                                      # eq. 7 (new arrays: aLm is kept)
+                qx = qx - aLx
+                qx += uy * cor
+                qy = qy - aLy
+                qy -= ux * cor
+            else:
+                qx, qy = _add(qx - aLx, _sc(uy, cor)), _sub(qy - aLy, _sc(ux, cor))
+        sdd = qx * rix
+        sdd += qy * riy
+        sdd *= inv
+        if arr:
+            al = uy * qx
+            al -= ux * qy
+            al *= inv
+        else:
+            al = _sub(_sc(uy, qx), _sc(ux, qy)) * inv
+        si._aA_xy, si.alpha = aM, al
     if on_guide:
         sj = LinkState.real(s0, (lx, ly), None)
         sj.share_rotation(g)
@@ -455,7 +473,10 @@ def rrp(m_state: LinkState, m0: complex, g: LinkState, s0: complex, u0: complex,
         if still and order >= 1:   # a fixed guide: the slider translates, L moves as its anchor
             si.set_rates(l0, sj._vA_xy, sj._aA_xy if order >= 2 else None)    # ṡ·u, s̈·u: copies
         if still and isinstance(zx, float) and isinstance(zy, float) and isinstance(ux, float):
-            probe = lx + ly        # a fixed guide: the slider (z + s·u) is finite where L is
+            # a fixed guide: the slider (z + s·u) is finite where L is; with every margin finite
+            # (dn, so √ and s) and M known finite, so are d = z + b − M, du, s, r_i and L (short
+            # of overflow beyond 1e308, as above)
+            probe = 0.0 if gmin is not None and m_state.finite and math.isfinite(zx + zy + ux + uy) else lx + ly
         elif proved:
             probe = 0.0
         else:

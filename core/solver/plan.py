@@ -16,8 +16,10 @@ import numpy as np
 from ..errors import GeometryError, RequestError, UnknownIdError
 from ..model.drivers import DriverKind
 from ..model.linkage import JointKind, Linkage
+from . import fpquiet as _fp
 from . import kernels as K
 from .branches import find_branch_points, flip_factor
+from .grid import SweepGrid
 from .drive import CrankDrive, find_linear_branch_points, linear_flip, make_drive
 from .memory import reserve as _reserve
 from .motion_law import cycle
@@ -30,6 +32,8 @@ __all__ = ["TOGGLE_COND", "TOUCH_REL", "Plan", "Solution", "Step", "compile_plan
 
 #: sweeps of up to this many samples need no reserve (:mod:`.memory`)
 _reserved_for = 255
+#: a plan keeps the input grids of sweeps of this many sample counts (:meth:`Plan._make_grid`)
+_GRIDS = 4
 
 
 @dataclass
@@ -53,6 +57,13 @@ class Plan:
     joint_at: dict[str, tuple[str, complex]] = field(default_factory=dict, repr=False)
     #: (every step's index, the branch points) once every group's branch points are known
     _every: tuple | None = field(default=None, repr=False)
+    #: per sample count, the input grid of the constant-speed sweeps (:mod:`.grid`), read-only
+    _grid: dict | None = field(default=None, repr=False)
+    #: the frame's points and their rates at its joints' drawn positions (scalars, the same at
+    #: every solve; :meth:`_frame_template`): each solve's frame state starts from copies of them
+    _ground: tuple | None = field(default=None, repr=False)
+    #: per step (the step, fixed, group name, link i, link j): what a solve reads of its group
+    _flat: list | None = field(default=None, repr=False)
 
     def local(self) -> "Plan":
         """This plan for the linkage moved so that its driver pivot sits at the origin (the
@@ -129,26 +140,41 @@ class Plan:
 
     def run_steps(self, inputs: np.ndarray, order: int, idx: Iterable[int],
                   branches: dict[str, np.ndarray], omega: float | None = None, alpha: float = 0.0,
-                  states: dict | None = None) -> dict[str, K.DyadOut]:
-        """Run the kernels of steps ``idx`` at ``inputs`` (the engine under :meth:`evaluate`)."""
+                  states: dict | None = None, crank: "SweepGrid | None" = None) -> dict[str, K.DyadOut]:
+        """Run the kernels of steps ``idx`` at ``inputs`` (the engine under :meth:`evaluate`).
+        ``crank``: for a sweep's inputs at the plan's constant speed, their :class:`~.grid.SweepGrid`
+        (the crank's cos/sin, and its points' motion once kept)."""
         w = self.omega if omega is None else omega
         drv = self.linkage.driver
         if states is None:
             states = {}
-        states[self.linkage.ground] = K.ground_state()
-        if self.drive is None:
+        frame = self._ground
+        if frame is None:
+            frame = self._ground = self._frame_template()
+        ground = K.ground_state()
+        ground.share_points(*frame)
+        states[self.linkage.ground] = ground
+        if crank is not None:
+            st = states[drv.link] = K.crank(self.pivot, self.theta0, inputs, w, alpha, order, crank.cs)
+            crank.share(st)
+        elif self.drive is None:
             states[drv.link] = K.crank(self.pivot, self.theta0, inputs, w, alpha, order)
         else:
             self.drive.set_states(states, inputs, w, alpha, order)
         linear = self.drive is not None and self.drive.linear
         outs: dict[str, K.DyadOut] = {}
-        with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        token = _fp.enter()
+        try:
+            flat = self._flat
+            if flat is None or len(flat) != len(self.steps):
+                flat = self._flat = [(s, s.group.fixed, s.group.name, s.group.link_i, s.group.link_j)
+                                     for s in self.steps]
             for k in idx:
-                step = self.steps[k]
-                if step.group.fixed:
+                step, fixed, name, link_i, link_j = flat[k]
+                if fixed:
                     out = _held(step.run(states, order, None), inputs.shape, order)
                 else:
-                    offsets = branches.get(step.group.name)
+                    offsets = branches.get(name)
                     flip = (None if offsets is None or not offsets.size else   # no branch point: both give None
                             linear_flip(offsets, inputs, self.theta0) if linear else
                             flip_factor(offsets, inputs, self.theta0, self.direction))
@@ -165,9 +191,11 @@ class Plan:
                     probe = xi + yi + ci + si + xj + yj + cj + sj
                 if not (type(probe) is float and math.isfinite(probe)):   # finite float: proved finite
                     out.ok, out.every = out.ok & np.isfinite(probe), False
-                states[step.group.link_i] = out.state_i
-                states[step.group.link_j] = out.state_j
-                outs[step.group.name] = out
+                states[link_i] = out.state_i
+                states[link_j] = out.state_j
+                outs[name] = out
+        finally:
+            _fp.leave(token)
         return outs
 
     def evaluate(self, inputs, order: int = 2, omega: float | None = None, alpha: float = 0.0,
@@ -182,6 +210,10 @@ class Plan:
         """
         if order not in (0, 1, 2):
             raise RequestError(f"order must be 0, 1 or 2, got {order}")
+        return self._solve(inputs, order, omega, alpha, joints, t)
+
+    def _solve(self, inputs, order: int, omega, alpha, joints, t, crank: "SweepGrid | None" = None) -> "Solution":
+        """:meth:`evaluate`; ``crank``: the crank's motion kept with a sweep's grid (:meth:`run_steps`)."""
         every = self._every
         if joints is None and every is not None and every[1] is self._branches:   # every step's known
             idx, branches = every
@@ -195,10 +227,11 @@ class Plan:
             inputs = np.asarray(inputs, dtype=float).reshape(-1)
         if inputs.shape[0] > _reserved_for:
             _reserve(inputs.shape[0])
-        w = self.omega if omega is None else _rate(omega)
-        alpha = _rate(alpha)
+        w = self.omega if omega is None else omega if omega.__class__ is float else _rate(omega)
+        if alpha.__class__ is not float:
+            alpha = _rate(alpha)
         states: dict[str, K.LinkState] = {}
-        outs = self.run_steps(inputs, order, idx, branches, w, alpha, states)
+        outs = self.run_steps(inputs, order, idx, branches, w, alpha, states, crank)
         valid = None
         every = True        # every group found every sample assembled: valid is all True
         for out in outs.values():
@@ -230,14 +263,45 @@ class Plan:
         if drv.linear or not drv.law.is_constant:
             m = cycle(drv, self.theta0, n)
             return self.evaluate(m.q, order=order, omega=m.qd, alpha=m.qdd, joints=joints, t=m.t)
-        k = np.arange(n, dtype=float)   # the same values as int k times a float (exact below 2**53)
+        if order not in (0, 1, 2):
+            raise RequestError(f"order must be 0, 1 or 2, got {order}")
         w = self.omega
-        sgn = 1.0 if w >= 0 else -1.0
-        inputs = sgn * (2.0 * math.pi / n) * k
-        inputs += self.theta0           # θ0 + sgn·(2π/N)·k, in place (no second array)
+        grid = None if self._grid is None else self._grid.get(n)
+        if grid is None:
+            grid = self._make_grid(n)
+        k = grid.k
         dt = 2.0 * math.pi / abs(w) / n
-        # the times: made only if read (Solution.t calls this)
-        return self.evaluate(inputs, order=order, omega=w, joints=joints, t=lambda: k * dt)
+        # the inputs: a copy of the grid's (a solution's own); the times made only if read
+        # (Solution.t calls this); the crank's motion shared, read-only
+        sol = self._solve(grid.inputs.copy(), order, w, 0.0, joints, lambda: k * dt,
+                          grid if grid.cs is not None else None)
+        if grid.points is None and grid.cs is not None:
+            grid.harvest(sol._states.get(self.linkage.driver.link), order)
+        return sol
+
+    def _frame_template(self) -> tuple:
+        """(points, rates) caches of the frame's state at its joints' drawn positions, complete
+        ([arm, point] and [velocity, acceleration], scalars), for
+        :meth:`~.link_state.LinkState.share_points` (each solve gets its own copies of the dicts:
+        complete entries are never written, so solves in several threads do not race on them)."""
+        st = K.ground_state()
+        for j in self.linkage.link(self.linkage.ground).joints:
+            p0 = self.joint_at[j][1]
+            arm = st.arm_xy(p0)
+            st.point_xy(p0)
+            st.vel_at(p0, arm)
+            st.acc_at(p0, arm)
+        return st._points or {}, st._rates or {}
+
+    def _make_grid(self, n: int) -> SweepGrid:
+        """A new :class:`~.grid.SweepGrid` for sweeps of ``n`` samples, kept (the last few sizes)."""
+        crank = self.drive is None or self.drive.__class__ is CrankDrive
+        drawn = [self.joint_at[j][1] for j in self.linkage.link(self.linkage.driver.link).joints] if crank else None
+        grid = SweepGrid(n, self.omega, self.theta0, drawn)
+        if self._grid is None or len(self._grid) >= _GRIDS:
+            self._grid = {}
+        self._grid[n] = grid
+        return grid
 
 
 def _held(out: K.DyadOut, shape: tuple[int, ...], order: int) -> K.DyadOut:

@@ -89,6 +89,10 @@ class Solution:
         self._quiet: bool | None = None
         self._rates_valid: np.ndarray | None = None
         self._joint_at = plan.joint_at   # joint -> (link reporting it, drawn point)
+        frame = states.get(plan.linkage.ground)
+        #: the frame's state if it is at rest as run_steps makes it (scalar zero rates): its
+        #: points' rates are +0.0 arrays, made without the general path
+        self._frame = frame if frame is not None and frame.still() else None
 
     def __len__(self) -> int:
         return self.input.shape[0]
@@ -251,7 +255,16 @@ class Solution:
         e = self._joint_at.get(joint)
         st = None if e is None else self._states.get(e[0])
         st, p0 = self._joint(joint) if st is None else (st, e[1])
-        out = st.write_point(p0, np.empty((self._n, 2)))
+        out = np.empty((self._n, 2))
+        pts = st._points
+        got = None if pts is None else pts.get(p0)
+        if got is not None and len(got) > 1 and got[1][0].__class__ is np.ndarray:   # computed: copy it
+            x, y = got[1]
+            o = out.T
+            o[0] = x
+            o[1] = y
+        else:
+            out = st.write_point(p0, out)
         return out if self._all_valid else self._mask(out)
 
     def velocity(self, joint: str) -> np.ndarray:
@@ -261,6 +274,8 @@ class Solution:
         e = self._joint_at.get(joint)
         st = None if e is None else self._states.get(e[0])
         st, p0 = self._joint(joint) if st is None else (st, e[1])
+        if st is self._frame and self._all_valid:   # what write_velocity gives the frame: +0.0
+            return np.zeros((self._n, 2))
         if self._quiet or self._is_quiet():
             return st.write_velocity(p0, np.empty((self._n, 2)))
         with np.errstate(invalid="ignore", over="ignore"):
@@ -274,6 +289,8 @@ class Solution:
         e = self._joint_at.get(joint)
         st = None if e is None else self._states.get(e[0])
         st, p0 = self._joint(joint) if st is None else (st, e[1])
+        if st is self._frame and self._all_valid:   # what write_acceleration gives the frame: +0.0
+            return np.zeros((self._n, 2))
         if self._quiet or self._is_quiet():
             return st.write_acceleration(p0, np.empty((self._n, 2)))
         with np.errstate(invalid="ignore", over="ignore"):
