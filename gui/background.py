@@ -56,10 +56,12 @@ def estimated_seconds(element: Any, samples: int | None) -> float:
 
 
 def _solve(element: Any, samples: int | None) -> Any:
-    """The work of one job (worker thread): the result, with a linkage's diagnostics computed."""
+    """The work of one job (worker thread): the result, with a linkage's diagnostics and summary
+    computed (cached on the result)."""
     res = solve_element(element, samples)
     if isinstance(res, LinkageResult) and res.error is None:
         _ = res.diagnostics
+        _ = res.summary()   # the Diagnostics dock's text: its classification searches too
     return res
 
 
