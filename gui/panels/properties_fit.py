@@ -14,6 +14,7 @@ from PySide6.QtCore import QEvent, QObject, Qt
 from PySide6.QtWidgets import QComboBox, QFormLayout, QGroupBox, QLabel, QWidget
 
 from .. import units
+from ..qtsafe import qt_safe
 
 #: the object name of the unit label beside a field (never wrapped)
 UNIT_LABEL = "unit"
@@ -21,6 +22,7 @@ UNIT_LABEL = "unit"
 _TITLE_ROOM = 24
 
 
+@qt_safe
 class _TitleElider(QObject):
     """Elides the titles of the group boxes it watches to their width; their minimum width is what
     their rows need, not what their title needs."""
