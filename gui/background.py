@@ -36,8 +36,10 @@ HEAVY_SECONDS = 0.4
 #: seconds per point or sample (measured on the examples at 3,600-360,000 samples and 100-10,000
 #: points, 2-core machine, with a margin of about 1.5)
 _PER_POINT = {"rolling_lever": 1.0e-3, "geneva": 4.0e-6, "geared_geneva": 8.0e-5, "gear_pair": 1.0e-6}
-#: a linkage: seconds per (joint + link) and sample, solve and diagnostics
-_PER_LINKAGE_SAMPLE = 4.0e-7
+#: a linkage: seconds per (joint + link) and sample, solve and diagnostics (a chain of 500 dyads,
+#: 1,002 joints at 360 samples: 4.5 s at load 10 on 2 cores, about 6e-6; 100 dyads: 5e-6; taken
+#: at 2e-6 for a quiet machine: 4e-7 called the 1,002-joint chain 0.3 s, solved on the GUI thread)
+_PER_LINKAGE_SAMPLE = 2.0e-6
 
 
 def estimated_seconds(element: Any, samples: int | None) -> float:
@@ -54,10 +56,12 @@ def estimated_seconds(element: Any, samples: int | None) -> float:
 
 
 def _solve(element: Any, samples: int | None) -> Any:
-    """The work of one job (worker thread): the result, with a linkage's diagnostics computed."""
+    """The work of one job (worker thread): the result, with a linkage's diagnostics and summary
+    computed (cached on the result)."""
     res = solve_element(element, samples)
     if isinstance(res, LinkageResult) and res.error is None:
         _ = res.diagnostics
+        _ = res.summary()   # the Diagnostics dock's text: its classification searches too
     return res
 
 
@@ -193,3 +197,33 @@ class BackgroundSolver(QObject):
             return
         if then is not None:
             then(value)
+
+
+def solve_each(solver: BackgroundSolver, workspace: Any, elements: list, text: str,
+               done: Callable[[list[str]], None]) -> None:
+    """Solve ``elements`` one after another on ``solver``'s thread, keep each result in
+    ``workspace`` (as :meth:`Workspace.keep_result`: the next request finds it), then call
+    ``done(problems)`` in the GUI thread: the core's messages of those that raised (an element
+    whose result carries an error is kept as it is; the document shows it). Never called if the
+    user cancels. ``text`` names the work in the status bar ("open big.json": "… (2/3: chain)")."""
+    problems: list[str] = []
+
+    def step(k: int) -> None:
+        while k < len(elements) and workspace.has_result(elements[k]):   # cached meanwhile
+            k += 1
+        if k == len(elements):
+            done(problems)
+            return
+        el = elements[k]
+
+        def landed(result: Any) -> None:
+            if isinstance(result, (MechsketchError, ValueError, ArithmeticError, OSError)):
+                problems.append(f"{el.id}: {result}")
+            else:
+                workspace.keep_result(el, result)
+            step(k + 1)
+
+        label = text if len(elements) == 1 else f"{text} ({k + 1}/{len(elements)}: {el.id})"
+        solver.solve(el, workspace.samples_for(el), label, landed)
+
+    step(0)

@@ -26,7 +26,7 @@ from mechsketch.core.solver.diagnostics import Diagnostics
 from mechsketch.core.workspace import (Change, ElementResult, GearResult, GenevaResult, LinkageResult, RollingResult,
                                       Workspace)
 
-from .background import HEAVY_SECONDS, BackgroundSolver, estimated_seconds
+from .background import HEAVY_SECONDS, BackgroundSolver, estimated_seconds, solve_each
 from .frames import map_frame
 from .qtsafe import qt_safe
 
@@ -155,10 +155,15 @@ class SceneController(QObject):
         label = text or getattr(edit, "label", "edit")
         self.interrupt_preview()
         try:
-            self.workspace.check(edit)  # dry run: refuse bad edits before they enter history
+            new = self.workspace.check(edit)  # dry run: refuse bad edits before they enter history
         except MechsketchError as exc:
             self.message.emit(f"cannot {label}: {exc}")
             return False
+        old = {e.id: e for e in self.scene.elements}
+        heavy = [e for e in new.elements if old.get(e.id) is not e and self.is_heavy(e)]
+        if heavy:   # a canvas tool's or a drag's edit of a heavy element: solved off the GUI thread
+            self._land_when_solved(heavy, edit, label)
+            return True
         self.undo_stack.push(EditCommand(self, edit, label))
         return True
 
@@ -179,24 +184,55 @@ class SceneController(QObject):
             if error is not None:
                 raise EditError(error)
             return self.push(edit, text)
-        base = self.scene
-        samples = self.workspace.samples_for(element)
+        self._land_when_solved([element], edit, text)
+        return True
 
-        def landed(result) -> None:
-            if isinstance(result, MechsketchError | ValueError | ArithmeticError | OSError):
-                self.message.emit(f"cannot {text}: {result}")
-                return
-            self.workspace.keep_result(element, result)
-            if result is not None and result.error is not None:
-                self.message.emit(f"cannot {text}: {result.error}")
+    def _land_when_solved(self, elements: list, edit: Edit, text: str) -> None:
+        """Solve ``elements`` (the heavy ones ``edit`` brings) off the GUI thread, then push
+        ``edit`` if the document did not change meanwhile (their results are kept either way)."""
+        base = self.scene
+        element = elements[0]
+
+        def landed(problems: list[str]) -> None:
+            kept = [self.workspace.result_of(e) for e in elements if self.workspace.has_result(e)]   # cached
+            errors = problems + [f"{r.error}" for r in kept if r is not None and r.error is not None]
+            if errors:
+                self.message.emit(f"cannot {text}: {'; '.join(errors)}")
             elif self.scene is not base:
                 self.message.emit(f"{text}: not applied, the document changed while it was solved "
                                   "(its result is kept: do it again to apply it at once)")
             else:
                 self.push(edit, text)
 
-        self.background.solve(element, samples, text if element.id in text else f"{text} ({element.id})", landed)
+        solve_each(self.background, self.workspace, elements,
+                   text if element.id in text else f"{text} ({element.id})", landed)
         self.message.emit(f"solving {element.id} for '{text}' off the main window (Cancel in the status bar)")
+
+    def reset_when_solved(self, scene: Scene, path: Path | None, text: str, then=None) -> bool:
+        """Replace the document by ``scene`` (Open) once its heavy elements are solved off the GUI
+        thread (busy indicator and Cancel in the status bar; Cancel keeps the current document),
+        at once when none is heavy; then call ``then()``. False if the document changed while its
+        elements were solved (the results are kept: opening it again is quick)."""
+        heavy = [e for e in scene.elements if self.is_heavy(e)]
+        if not heavy:
+            self.reset(scene, path)
+            if then is not None:
+                then()
+            return True
+        base, clean = self.scene, self.undo_stack.index()
+
+        def landed(problems: list[str]) -> None:
+            if self.scene is not base or self.undo_stack.index() != clean:
+                self.message.emit(f"{text}: not opened, the document changed meanwhile (open it again: "
+                                  "its results are kept)")
+                return
+            self.reset(scene, path)
+            if then is not None:
+                then()
+
+        solve_each(self.background, self.workspace, heavy, text, landed)
+        self.message.emit(f"{text}: solving {len(heavy)} large element(s) off the main window "
+                          "(Cancel in the status bar keeps this document)")
         return True
 
     def interrupt_preview(self) -> None:

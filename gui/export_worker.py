@@ -1,4 +1,5 @@
-"""Export of any element's cut-ready parts (DXF or SVG) off the GUI thread, with progress and Cancel.
+"""Export of any element's cut-ready parts (DXF or SVG) and of the drawing sheets (PDF) off the
+GUI thread, with progress and Cancel.
 
 :class:`DxfExporter` runs one :class:`ExportTask` at a time on its own ``QThreadPool``. A task
 works in two stages: it first builds the parts (:func:`~mechsketch.core.analyses.parts.build.
@@ -9,6 +10,10 @@ whenever it arrives before the write starts; a write already under way finishes 
 milliseconds). The element is an immutable record, so the user may keep editing meanwhile.
 
 :class:`ExportStatus` is the status-bar widget: a busy bar, the stage, and a Cancel button.
+:class:`DrawingTask` (File › Export Drawing) builds and checks every element's parts, lays out one
+sheet each and writes them with Qt's PDF writer (QPdfWriter paints off the GUI thread); Cancel is
+looked at between elements and before the write, and a failed write leaves nothing
+(:func:`~mechsketch.gui.drawing_pdf.write_pdf` writes a temporary file, then renames it).
 Signals of :class:`DxfExporter`: ``started(str)`` (element id), ``progress(str)``,
 ``finished(str)`` (the core's report), ``failed(str)`` (the core's message: an unwritable path
 gives ``ExportError``), ``cancelled(str)``; ``busyChanged(bool)``.
@@ -100,6 +105,49 @@ class ExportTask(QRunnable):
         return False
 
 
+@qt_safe
+class DrawingTask(ExportTask):
+    """Write the drawing sheets of ``jobs`` — (element, part options, plan or None, summary lines)
+    for every element with parts — to the PDF ``path``; ``scene_name`` goes in the title blocks."""
+
+    def __init__(self, jobs: list[tuple], path: str, scene_name: str, title: str) -> None:
+        super().__init__(jobs[0][0], path)
+        self.jobs, self.scene_name, self.title = jobs, scene_name, title
+
+    def _run(self) -> None:
+        from mechsketch.core.analyses.parts import require_checked
+        from mechsketch.core.io.drawing_sheet import drawing_page
+
+        from .drawing_pdf import write_pdf
+
+        try:
+            sets = []
+            for k, (el, opts, plan, summary) in enumerate(self.jobs):
+                self.signals.progress.emit(f"building the parts of {el.id} ({k + 1}/{len(self.jobs)})…")
+                ps = parts_build.element_parts(el, opts, plan)
+                require_checked(ps, parts_build.min_web_of(el, opts))
+                sets.append((ps, summary))
+                if self._stopped():
+                    return
+            pages = [drawing_page(ps, self.scene_name, summary, sheet=(k + 1, len(sets)))
+                     for k, (ps, summary) in enumerate(sets)]
+            if self._stopped():
+                return
+            self.signals.progress.emit(f"writing {Path(self.path).name}…")
+            write_pdf(pages, self.path, self.title)
+        except (MechsketchError, OSError, ValueError) as exc:
+            self.signals.failed.emit(str(exc))
+            return
+        sheets = ", ".join(f"{p.title[1][1]}: {p.paper} at {p.scale_text}" for p in pages)
+        self.signals.finished.emit(f"wrote {self.path}: {len(pages)} sheet(s) ({sheets})")
+
+    def _stopped(self) -> bool:
+        if self._cancel.is_set():
+            self.signals.cancelled.emit(f"drawing export cancelled: {Path(self.path).name} was not written")
+            return True
+        return False
+
+
 class DxfExporter(QObject):
     """Runs export tasks one at a time off the GUI thread (see the module docstring)."""
 
@@ -124,7 +172,20 @@ class DxfExporter(QObject):
         """Start exporting ``element`` to ``path``; False (nothing started) if one is running."""
         if self.task is not None:
             return False
-        task = ExportTask(element, path, request)
+        return self.run(ExportTask(element, path, request))
+
+    def start_drawing(self, jobs: list[tuple], path: str, scene_name: str, title: str) -> bool:
+        """Start writing the drawing sheets of ``jobs`` (see :class:`DrawingTask`) to ``path``;
+        False (nothing started) if an export is running."""
+        if self.task is not None or not jobs:
+            return False
+        return self.run(DrawingTask(jobs, path, scene_name, title))
+
+    def run(self, task: ExportTask) -> bool:
+        """Start ``task`` (an :class:`ExportTask` or a subclass); False if one is running."""
+        if self.task is not None:
+            return False
+        element = task.element
         for name in ("progress", "finished", "failed", "cancelled"):
             getattr(task.signals, name).connect(getattr(self, name))
         task.signals.done.connect(self._done)

@@ -145,11 +145,13 @@ class FileOps(QObject):
         scene = self._load(Path(path))
         if scene is None:
             return False
-        self.example_name = None
-        self.controller.reset(scene, Path(path).resolve())
-        self._add_recent(Path(path).resolve())
-        self.controller.message.emit(f"opened {Path(path).name}: {self._summary(scene)}")
-        return True
+        def opened() -> None:
+            self.example_name = None
+            self.controller.pathChanged.emit()   # the title names the file, not the example before
+            self._add_recent(Path(path).resolve())
+            self.controller.message.emit(f"opened {Path(path).name}: {self._summary(scene)}")
+        # a large scene is solved off the GUI thread first (issue 20): Cancel keeps this document
+        return self.controller.reset_when_solved(scene, Path(path).resolve(), f"open {Path(path).name}", opened)
 
     def open_example(self, name: str, ask: bool = True) -> bool:
         """Open a built-in example as an unsaved document (Save asks where to put it)."""
@@ -163,10 +165,11 @@ class FileOps(QObject):
         scene = self._load(path)
         if scene is None:
             return False
-        self.example_name = path.stem
-        self.controller.reset(scene, None)
-        self.controller.message.emit(f"opened example {path.stem}: {self._summary(scene)}")
-        return True
+        def opened() -> None:
+            self.example_name = path.stem
+            self.controller.pathChanged.emit()   # the title names the example
+            self.controller.message.emit(f"opened example {path.stem}: {self._summary(scene)}")
+        return self.controller.reset_when_solved(scene, None, f"open example {path.stem}", opened)
 
     def save(self) -> bool:
         """Save to the current file (Save As if there is none). False if it failed or was cancelled."""

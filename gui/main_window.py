@@ -13,7 +13,7 @@ Start-up (issue 14): the first frame does not wait for what it does not show. Th
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable
 
@@ -28,16 +28,15 @@ from .busy import BusyIndicator
 from .controller import SceneController
 from .dialogs import DialogService
 from .status_label import StatusLabel
-from .selection import ELEMENT
 from .file_ops import FileOps
 from .clipboard import ClipboardCommands
 from .drops import DropTarget
 from .help.actions import HelpCommands
 from .underlays import UnderlayCommands
 from .design_docks import DesignDocks
-from .drawing_export import export_drawing
+from .drawing_export import export_drawing, export_parts, export_target
 from . import units
-from .preferences import (Preferences, apply_preferences, load_preferences, open_preferences_dialog, part_options,
+from .preferences import (Preferences, apply_preferences, load_preferences, open_preferences_dialog,
                           store_preferences)
 from .panels.diagnostics import DiagnosticsPanel
 from .panels.properties import PropertiesPanel
@@ -70,7 +69,7 @@ LAYOUT_VERSION = 1
 #: so that the first layout (and the canvas's first zoom to fit) is the one the panel gets
 #: (tests/gui/test_startup_imports.py checks them against the real panel)
 PLOTS_SIZE_HINT = (604, 511)
-PLOTS_MINIMUM_SIZE_HINT = (218, 99)
+PLOTS_MINIMUM_SIZE_HINT = (175, 99)
 
 
 @dataclass
@@ -145,6 +144,7 @@ class MainWindow(QMainWindow):
         self.frame_label = StatusLabel()
         self.solve_label = StatusLabel()
         self._exporter = None
+        self.export_titles = ("DXF exported", "Export DXF")   # of the running export: done, failed
         self.statusBar().addPermanentWidget(self.cursor_label)
         self.statusBar().addPermanentWidget(self.solve_label)
         self.statusBar().addPermanentWidget(self.frame_label)
@@ -424,67 +424,27 @@ class MainWindow(QMainWindow):
 
     def export_target(self):
         """The element to export: the selected one, else the only one (None if there are several)."""
-        from .export_worker import exportable
-
-        scene = self.controller.scene
-        for eid, kind, _ in self.controller.selection:
-            if kind == ELEMENT and eid in scene.ids and exportable(scene.element(eid)):
-                return scene.element(eid)
-        candidates = [e for e in scene.elements if exportable(e)]
-        return candidates[0] if len(candidates) == 1 else None
+        return export_target(self)
 
     def export_dxf(self) -> bool:
         """Ask for the options and a file, then export the parts as DXF off the GUI thread."""
-        return self.export_parts("dxf")
+        return export_parts(self, "dxf")
 
     def export_svg(self) -> bool:
         """Ask for the options and a file, then export the parts as SVG off the GUI thread."""
-        return self.export_parts("svg")
+        return export_parts(self, "svg")
 
     def export_parts(self, fmt: str) -> bool:
-        """The export dialog (element, parts, layout, tolerance, entities, minimum web), the file
-        name, then the export off the GUI thread with progress and Cancel (True: started)."""
-        from mechsketch.core.analyses.parts.build import PartOptions, min_web_of, part_names
-
-        from .export_worker import exportable
-
-        if self.exporter.busy:
-            self.show_message("an export is running: wait for it or cancel it")
-            return False
-        scene = self.controller.scene
-        elements = [e for e in scene.elements if exportable(e)]
-        if not elements:
-            self.show_message("nothing to export: draw a linkage, a Geneva drive, a rolling lever or a gear pair first")
-            return False
-        target = self.export_target() or elements[0]
-        choices = {e.id: part_names(e) for e in elements}
-        preferred = PartOptions(min_web=self.preferences.min_web or None)
-        min_webs = {e.id: min_web_of(e, preferred) for e in elements}
-        title = f"Export {fmt.upper()}"
-        kinds = {e.id: e.type for e in elements}
-        sizes = {k: getattr(self.preferences, k) for k in ("boss_radius", "bore_diameter", "link_width")}
-        req = self.dialogs.export_request(title, choices, target.id, fmt, min_webs, kinds, sizes)
-        if req is None:
-            return False
-        req = replace(req, options=part_options(self.preferences, req.options))   # preferred plate sizes
-        el = scene.element(req.element_id)
-        folder = self.controller.path.parent if self.controller.path else Path.home()
-        name = self.dialogs.save_file_name(f"Export {el.id} as {fmt.upper()}", str(folder / f"{el.id}.{fmt}"),
-                                           "DXF drawings (*.dxf)" if fmt == "dxf" else "SVG drawings (*.svg)")
-        if not name:
-            return False
-        path = Path(name) if Path(name).suffix else Path(name).with_suffix(f".{fmt}")
-        self.show_message(f"exporting {el.id} to {path}…")
-        self._export_title = f"{fmt.upper()} exported"
-        return self.exporter.start(el, str(path), req)
+        """File › Export DXF/SVG (:func:`.drawing_export.export_parts`; True: started)."""
+        return export_parts(self, fmt)
 
     def _export_finished(self, report: str) -> None:
         self.show_message(report.splitlines()[0] if report else "exported")
-        self.dialogs.info(getattr(self, "_export_title", "DXF exported"), report)
+        self.dialogs.info(self.export_titles[0], report)
 
     def _export_failed(self, message: str) -> None:
         self.show_message(message)
-        self.dialogs.error("Export DXF", f"{message}\n\nThe scene is not affected.")
+        self.dialogs.error(self.export_titles[1], f"{message}\n\nThe scene is not affected.")
 
     # -- preferences (gui/preferences.py) --------------------------------------------------------
     def open_preferences(self) -> None:

@@ -218,3 +218,26 @@ def parse(text: str, unit: str | None = None, units: Units | None = None) -> flo
         shown = display_unit(unit, units) if unit else "no unit"
         raise ValueError(f"{text!r}: {word} is not a unit of this field ({shown})")
     return number * per
+
+
+# -- line breaking -------------------------------------------------------------------------
+#: a unit as the panels show it: mm, in, °, rad/s, rad/s², rpm, N, N·m, N/mm, mm/s, kg·m², MPa, µm …
+_UNIT = (r"(?:MPa|GPa|Pa|mm|µm|cm|rad|rpm|deg|kg|in|N|s|m|°|%)[²³]?"
+         r"(?:[·/](?:mm|rad|kg|in|N|s|m|°)[²³]?)*")
+_UNIT_TOKEN = re.compile(rf"(?<![A-Za-z]){_UNIT}(?![A-Za-z])")
+_NUMBER_SPACE = re.compile(rf"(?<=[\d.])[ \u00a0](?={_UNIT}(?![A-Za-z]))")
+NBSP, WORD_JOINER = "\u00a0", "\u2060"
+
+
+def unbreakable(text: str) -> str:
+    """``text`` with every value and its unit kept on one line when a label wraps: a no-break
+    space between a number and its unit ("10 rad/s") and a word joiner after a unit's "/" (Qt may
+    break a line after a slash: "rad/ s"). Idempotent; :func:`plain` undoes it."""
+    text = plain(text)
+    text = _UNIT_TOKEN.sub(lambda m: m.group(0).replace("/", "/" + WORD_JOINER), text)
+    return _NUMBER_SPACE.sub(NBSP, text)
+
+
+def plain(text: str) -> str:
+    """``text`` without the no-break marks of :func:`unbreakable` (for comparisons and copying)."""
+    return text.replace(WORD_JOINER, "").replace(NBSP, " ")

@@ -91,6 +91,7 @@ class LinkageResult(_Result):
     seconds: float = 0.0
     incremental: bool = False
     _diagnostics: Diagnostics | None = field(default=None, repr=False)
+    _summary: str | None = field(default=None, repr=False)
 
     kind = "linkage"
 
@@ -125,10 +126,14 @@ class LinkageResult(_Result):
         return f"input {input_text(value, unit, 2)}  t {float(sol.t[k]):.3f} s"
 
     def summary(self) -> str:
-        """What ``mechsketch analyze SCENE --element ID --summary`` prints."""
+        """What ``mechsketch analyze SCENE --element ID --summary`` prints (computed once: the
+        classification's searches take seconds on a 1,000-joint linkage, which the GUI's worker
+        thread pays before the result is shown)."""
         if self.solution is None:
             return f"linkage {self.element.id!r}: {self.error}"
-        return linkage_summary(self.element, self.plan, self.diagnostics, self.solution)
+        if self._summary is None:
+            self._summary = linkage_summary(self.element, self.plan, self.diagnostics, self.solution)
+        return self._summary
 
 
 def solve_linkage(element: Linkage, samples: int | None = None, plan: Plan | None = None) -> LinkageResult:

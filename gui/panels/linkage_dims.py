@@ -84,12 +84,20 @@ def dimensions_box(panel, eid: str) -> QGroupBox:
                           | QAbstractItemView.EditTrigger.AnyKeyPressed)
     panel.tables["dimensions"] = table
     keys: list[str] = []
+    shown: list = [None]   # (element, units) the values show: a refresh of the same is free
 
-    def show() -> None:
+    def show(force: bool = False) -> None:
         try:
-            rows = dimensions(panel.controller.scene.element(eid))
+            el = panel.controller.scene.element(eid)
         except MechsketchError:
             return
+        if not force and shown[0] is not None and shown[0][0] is el and shown[0][1] == units.current():
+            return   # (a 1,000-joint linkage: 1.5 s of dimensions per refresh)
+        try:
+            rows = dimensions(el)
+        except MechsketchError:
+            return
+        shown[0] = (el, units.current())
         table.blockSignals(True)
         if [d.key for d in rows] != keys:
             keys[:] = [d.key for d in rows]
@@ -118,13 +126,13 @@ def dimensions_box(panel, eid: str) -> QGroupBox:
                                                   if d.key == key))
         except ValueError as exc:
             panel.controller.message.emit(f"{key}: {exc}")
-            show()
+            show(force=True)
             return
         try:
             push_dimension(panel, eid, key, value)
         except MechsketchError as exc:
             panel.controller.message.emit(f"cannot set {key}: {exc}")
-        show()   # what the model holds now
+        show(force=True)   # what the model holds now (the typed text replaced)
 
     table.itemChanged.connect(edited)
     panel.add_refresher(show)

@@ -62,6 +62,7 @@ class PlotsPanel(LazyRefresh, QWidget):
         self.title = QLabel()
         self.title.setObjectName("plotTitle")
         self.title.setWordWrap(True)   # a long title wraps rather than widening the dock
+        self.title.setMinimumWidth(1)   # and a long element id (one word) is cut, not the dock widened
         self.chooser = QToolButton()
         self.chooser.setObjectName("plotChooser")
         self.chooser.setText("Plots")

@@ -34,6 +34,7 @@ from .geneva_panel import geneva_boxes
 from .lazy import defer_preview
 from .linkage_dims import dimensions_box, drive_button, driver_box, link_dimension_rows
 from .loads_panel import joint_friction_row, link_mass_rows, loads_box
+from .properties_fit import UNIT_LABEL, fit_width, keep_units_together, make_elider
 from .rolling_panel import rolling_boxes
 from ..qtsafe import qt_safe
 
@@ -83,6 +84,7 @@ class PropertiesPanel(QWidget):
         self.direction: QComboBox | None = None
         self._refreshers: list[Callable[[], None]] = []
         self._key: object = None
+        self._elider = make_elider(self)
         controller.changed.connect(self._on_changed)
         controller.selectionChanged.connect(self.refresh)
         self.refresh()
@@ -126,7 +128,8 @@ class PropertiesPanel(QWidget):
         eid = element_target(self.controller)
         if eid is not None:
             el = self.controller.scene.element(eid)
-            return ("element", eid, el.type, getattr(el, "drive", None) is not None)
+            return ("element", eid, el.type, getattr(el, "drive", None) is not None,
+                    getattr(el, "slider_law", None) is not None)
         lk = self.linkage()
         if lk is None:
             return ("elements", self.controller.scene.ids)
@@ -152,6 +155,7 @@ class PropertiesPanel(QWidget):
             self._rebuild()
         for update in self._refreshers:
             update()
+        keep_units_together(self._content)
 
     def _fill_selector(self) -> None:
         items: list[tuple[str, Selection | None]] = [("(nothing selected)", None)]
@@ -223,15 +227,8 @@ class PropertiesPanel(QWidget):
         self._fit_width()
 
     def _fit_width(self) -> None:
-        """Let every row shrink to the dock's width: form rows put their field under the label
-        when narrow, texts wrap, combo boxes elide their longest choice (issue 24, item 5)."""
-        for form in self._content.findChildren(QFormLayout):
-            form.setRowWrapPolicy(QFormLayout.RowWrapPolicy.WrapLongRows)
-        for label in self._content.findChildren(QLabel):
-            label.setWordWrap(True)
-        for box in self._content.findChildren(QComboBox):
-            box.setSizeAdjustPolicy(QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
-            box.setMinimumContentsLength(8)
+        """Let every row shrink to the dock's width (issue 24, item 5: :mod:`.properties_fit`)."""
+        fit_width(self._content, self._elider)
 
     def _elements_box(self) -> QGroupBox:
         box = QGroupBox("Scene")
@@ -311,7 +308,9 @@ class PropertiesPanel(QWidget):
         h.setContentsMargins(0, 0, 0, 0)
         h.addWidget(edit, 1)
         edit.setProperty("unit", unit)                # the model's unit; shown in the display unit
-        h.addWidget(QLabel(units.display_unit(unit)))
+        unit_label = QLabel(units.display_unit(unit))
+        unit_label.setObjectName(UNIT_LABEL)      # never wrapped (issue 24 item 5b: "rad/ s")
+        h.addWidget(unit_label)
         return w
 
     def _lk(self, eid: str) -> Linkage:

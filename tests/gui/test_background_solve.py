@@ -96,7 +96,8 @@ def test_a_document_changed_meanwhile_is_not_overwritten(rolling, qtbot, monkeyp
     parts, c, held, el = rolling
     monkeypatch.setattr("mechsketch.gui.controller.HEAVY_SECONDS", 0.0)
     type_into(qtbot, parts.window.properties.fields["points"], "300")
-    # another edit lands first (the user kept working): the pin holes' diameter
+    # another edit lands first (the user kept working): the pin holes' diameter, quick to solve
+    monkeypatch.setattr("mechsketch.gui.controller.HEAVY_SECONDS", 1e9)
     c.push(ReplaceElement(replace(el, pin_diameter=el.pin_diameter + 1.0)), "pin")
     messages = []
     c.message.connect(messages.append)

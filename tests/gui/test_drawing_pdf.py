@@ -11,6 +11,7 @@ import re
 import numpy as np
 import pypdf
 import pytest
+from PySide6.QtCore import Qt
 
 from mechsketch import resources
 from mechsketch.core import load_scene
@@ -20,6 +21,7 @@ from mechsketch.core.cli import export_cmds
 from mechsketch.core.cli import main as core_main
 from mechsketch.core.errors import GeometryError
 from mechsketch.core.io.drawing_sheet import drawing_page
+from mechsketch.gui.drawing_export import export_drawing
 from mechsketch.gui.drawing_pdf import page_image
 from mechsketch.gui.launcher import main
 
@@ -117,15 +119,19 @@ def test_pdf_requests_that_cannot_be_met_are_refused(tmp_path, capsys, monkeypat
     assert not list(tmp_path.rglob("*.pdf")) and not list(tmp_path.rglob("*.dxf"))
 
 
-def test_file_export_drawing_writes_the_sheet_the_command_writes(shell, tmp_path):
+def test_file_export_drawing_writes_the_sheet_the_command_writes(shell, qtbot, tmp_path):
     """File › Export Drawing (PDF)…: the window's scene (the four-bar with its coupler point) as
-    one A4 sheet, read back; an unwritable folder is an error message and nothing is written."""
+    one A4 sheet, read back; an unwritable folder is an error message and nothing is written.
+    The sheets are built and written off the GUI thread (issue 20): the action returns at once
+    with the export running, the status bar shows it, and the result arrives as a signal."""
     parts = shell()
     w = parts.window
     action = w.actions["export_drawing"]
     assert action in w.menuBar().actions()[0].menu().actions()
     parts.dialogs.save_names.append(str(tmp_path / "sheet"))
-    action.trigger()
+    with qtbot.waitSignal(w.exporter.finished, timeout=60000):
+        action.trigger()
+        assert w.exporter.busy and w.export_status.isVisibleTo(w) and not (tmp_path / "sheet.pdf").exists()
     reader = pypdf.PdfReader(tmp_path / "sheet.pdf")
     el = next(e for e in w.controller.scene.elements if e.type == "linkage")
     assert len(reader.pages) == 1
@@ -138,6 +144,42 @@ def test_file_export_drawing_writes_the_sheet_the_command_writes(shell, tmp_path
     title, report = parts.dialogs.infos[-1]
     assert title == "Drawing exported" and "A4" in report
     parts.dialogs.save_names.append(str(tmp_path / "missing" / "sheet.pdf"))
-    action.trigger()
+    scene = w.controller.scene
+    with qtbot.waitSignal(w.exporter.failed, timeout=60000):
+        action.trigger()
     title, text, _ = parts.dialogs.errors[-1]
     assert title == "Export Drawing" and "cannot write" in text and not (tmp_path / "missing").exists()
+    assert str(tmp_path / "missing" / "sheet.pdf") in text and "The scene is not affected" in text
+    assert w.controller.scene is scene and not w.exporter.busy
+
+
+def test_cancel_in_the_status_bar_stops_the_drawing_before_it_is_written(shell, qtbot, tmp_path):
+    """Cancel pressed while the sheets are built: nothing is written, the status bar says so, the
+    exporter is free again and a second Export Drawing writes the file."""
+    parts = shell()
+    w = parts.window
+    parts.dialogs.save_names.append(str(tmp_path / "sheet.pdf"))
+
+    def press_cancel(_element_id: str) -> None:   # the moment the export starts, as a user would
+        qtbot.mouseClick(w.export_status.cancel_button, Qt.MouseButton.LeftButton)
+    w.exporter.started.connect(press_cancel)
+    with qtbot.waitSignal(w.exporter.cancelled, timeout=60000) as blocker:
+        w.actions["export_drawing"].trigger()
+    w.exporter.started.disconnect(press_cancel)
+    assert "not written" in blocker.args[0] and "not written" in w.statusBar().currentMessage()
+    qtbot.waitUntil(lambda: not w.exporter.busy)
+    assert not list(tmp_path.glob("*.pdf")) and not list(tmp_path.glob(".sheet*")) and not parts.dialogs.errors
+    parts.dialogs.save_names.append(str(tmp_path / "sheet.pdf"))
+    with qtbot.waitSignal(w.exporter.finished, timeout=60000):
+        w.actions["export_drawing"].trigger()
+    assert len(pypdf.PdfReader(tmp_path / "sheet.pdf").pages) == 1 and [p.name for p in tmp_path.glob("*sheet*")] == ["sheet.pdf"]
+
+
+def test_export_drawing_refuses_to_start_while_an_export_runs(shell, qtbot, tmp_path):
+    parts = shell()
+    w = parts.window
+    parts.dialogs.save_names.extend([str(tmp_path / "a.pdf"), str(tmp_path / "b.pdf")])
+    with qtbot.waitSignal(w.exporter.finished, timeout=60000):
+        assert w.actions["export_drawing"].trigger() is None and w.exporter.busy
+        assert export_drawing(w) is False and "an export is running" in w.statusBar().currentMessage()
+    assert (tmp_path / "a.pdf").exists() and not (tmp_path / "b.pdf").exists()

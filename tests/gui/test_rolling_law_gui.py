@@ -7,6 +7,7 @@ import numpy as np
 
 from mechsketch.core import Scene, load_scene
 from mechsketch.core.design.rolling import design_rolling, requirements_of
+from mechsketch.gui import units
 from mechsketch.resources import example_path
 
 from app_fakes import shell  # noqa: F401 - fixture
@@ -42,6 +43,7 @@ def test_a_law_lever_is_drawn_animated_and_shown(shell, qtbot):
     view.grab()
     c.set_selection([("press", "element", "press")])
     texts = " ".join(w.text() for w in parts.window.properties.findChildren(type(parts.window.frame_label)))
+    texts = units.plain(texts)   # shown with each value kept on one line with its unit
     assert "S5(θ): constant, travel 50.43 mm" in texts
     assert "slider_circle.radius" not in parts.window.properties.fields
     from mechsketch.gui.canvas.handles import rolling_handles
