@@ -42,3 +42,25 @@ def _no_running_qtimers(monkeypatch: pytest.MonkeyPatch, request: pytest.Fixture
     if running:
         names = ", ".join(t.objectName() or repr(t) for t in running)
         pytest.fail(f"the test left {len(running)} QTimer(s) running: {names}")
+
+
+@pytest.fixture(autouse=True)
+def _delete_the_tests_windows(qapp):
+    """Delete the top-level widgets a test made, when it ends.
+
+    pytest-qt closes the widgets given to ``qtbot.addWidget`` and calls ``deleteLater`` on them,
+    but a deferred delete posted outside an event loop never runs: every app shell (about 830
+    widgets, 65 of them top-level menus and docks) stayed alive for the rest of the worker's run.
+    Each later event-loop turn, layout pass and ``QApplication.allWidgets`` walk then paid for all
+    of them, so a test's CPU grew with the number of tests before it in the same process (the
+    whole suite: tens of thousands of live widgets per worker). Autouse fixtures tear down last,
+    after the test's own fixtures have closed what they made.
+    """
+    from PySide6.QtCore import QCoreApplication, QEvent
+
+    before = set(qapp.topLevelWidgets())
+    yield
+    for w in qapp.topLevelWidgets():
+        if w not in before and w.parent() is None:
+            w.deleteLater()
+    QCoreApplication.sendPostedEvents(None, QEvent.Type.DeferredDelete)
