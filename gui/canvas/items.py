@@ -25,9 +25,10 @@ from PySide6.QtWidgets import QGraphicsItem, QStyleOptionGraphicsItem, QWidget
 from mechsketch.core.model.drivers import input_text
 from mechsketch.core.model.linkage import JointKind
 
-from ..qpath import xy_path as _path
+from ..qpath import finite_path, xy_path as _path
 from .events import XY, Hit
 from .pose import ElementPose, SolutionArrays, link_outline, slider_roles
+from .trace_path import TOLERANCE_PX, thin
 from ..qtsafe import qt_safe
 
 INK = QColor("#2b2f36")
@@ -368,8 +369,10 @@ class LinkageItem(_Item):
 class TraceItem(_Item):
     """Traced joint paths and the driver circle (red where the linkage cannot be assembled).
 
-    Paths are decimated to about one point per :data:`TRACE_STEP_PX` screen pixels (rebuilt when
-    the zoom changes much): thousands of sub-pixel segments cost paint time and show nothing.
+    Paths are decimated to about one point per :data:`TRACE_STEP_PX` screen pixels and then to the
+    vertices that move the drawing by more than :data:`~mechsketch.gui.canvas.trace_path.TOLERANCE_PX`
+    (rebuilt when the zoom changes much): Qt strokes the 1.6 px pen vertex by vertex, and thousands
+    of sub-pixel segments cost paint time and show nothing.
     """
 
     PAD_PX = 6.0
@@ -400,7 +403,7 @@ class TraceItem(_Item):
         if arrays is not None:
             for jid in traced:
                 if jid in arrays.pos:
-                    p = _path(arrays.pos[jid], close=True, step=step)
+                    p = _trace(arrays.pos[jid], step, TOLERANCE_PX * self._px)
                     self.traces.append(p)
                     core = core.united(p.boundingRect())
             self._circle(pose, arrays, step)
@@ -445,6 +448,16 @@ class TraceItem(_Item):
         painter.setPen(_pen(TRACE, 1.6))
         for p in self.traces:
             painter.drawPath(p)
+
+
+def _trace(xy: np.ndarray, step: float, tol: float) -> QPainterPath:
+    """A traced joint's closed path through the (N, 2) positions (mm; NaN breaks it), thinned to
+    what the screen shows (:func:`~mechsketch.gui.canvas.trace_path.thin`: ``step`` arc length,
+    ``tol`` deviation, mm)."""
+    if len(xy) > 2 and np.isfinite(xy).all():
+        xy = np.vstack([xy, xy[:1]])
+    pts = thin(xy, step, tol)
+    return finite_path(pts[:, 0], pts[:, 1])
 
 
 @dataclass

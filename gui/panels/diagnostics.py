@@ -24,22 +24,52 @@ from .lazy import LazyRefresh
 from ..qtsafe import qt_safe
 
 
-def diagnostics_lines(controller: SceneController) -> list[tuple[str, str]]:
-    """(style, text) lines: style is "head", "error" or "" (pure: reads the controller)."""
+class SummaryCache:
+    """Each element's summary text by the identity of its result (the text of a result never
+    changes): a panel refresh after an edit of another element, or an undo or redo that brings a
+    cached result back, shows its text without classifying the outputs again (for a chain of 32
+    dyads the classification and the text take ~50 ms). Keeps the last ``keep`` results of each
+    element (they are the workspace's, held here only while cached)."""
+
+    def __init__(self, keep: int = 2) -> None:
+        self.keep = keep
+        self._texts: dict[str, list[tuple[object, str]]] = {}
+
+    def summary(self, element_id: str, result) -> str:
+        """``result.summary()``, computed once per result."""
+        seen = self._texts.setdefault(element_id, [])
+        for res, text in seen:
+            if res is result:
+                return text
+        text = result.summary()
+        seen.insert(0, (result, text))
+        del seen[self.keep:]
+        return text
+
+    def forget_others(self, element_ids) -> None:
+        """Drop the texts of elements not in ``element_ids`` (removed from the scene)."""
+        for eid in set(self._texts) - set(element_ids):
+            del self._texts[eid]
+
+
+def diagnostics_lines(controller: SceneController, cache: SummaryCache | None = None) -> list[tuple[str, str]]:
+    """(style, text) lines: style is "head", "error" or "" (pure: reads the controller; the
+    summaries through ``cache`` when given)."""
+    cache = cache or SummaryCache()
     out: list[tuple[str, str]] = []
     els = controller.scene.elements
     if not els:
         return [("", "The scene is empty.")]
     for el in els:
         if not isinstance(el, Linkage):
-            out.extend(_element_lines(controller, el))
+            out.extend(_element_lines(controller, el, cache))
             continue
         res = controller.result(el.id)
         if res is None or res.solution is None:
             out.append(("head", f"linkage {el.id}: {len(el.links)} links, {len(el.joints)} joints"))
             out.append(("error", "not solved yet" if res is None else f"cannot solve: {res.error}"))
             continue
-        head, *rest = res.summary().splitlines()   # the text of `mechsketch analyze --summary`
+        head, *rest = cache.summary(el.id, res).splitlines()   # the text of `mechsketch analyze --summary`
         out.append(("head", head))
         out.extend(("", line) for line in rest)
         out.append(("", f"solve + diagnostics in the app: {res.seconds * 1e3:.2f} ms"))
@@ -60,7 +90,7 @@ def force_lines(controller: SceneController, element_id: str) -> list[tuple[str,
     return [("head", head), *(("", line.strip()) for line in rest)]
 
 
-def _element_lines(controller: SceneController, el) -> list[tuple[str, str]]:
+def _element_lines(controller: SceneController, el, cache: SummaryCache) -> list[tuple[str, str]]:
     """The summary (or the error) of a Geneva drive or rolling lever; what an underlay is."""
     if isinstance(el, Underlay):
         return underlay_lines(el)
@@ -74,7 +104,7 @@ def _element_lines(controller: SceneController, el) -> list[tuple[str, str]]:
     if res.error is not None:
         out.append(("error", res.error))
     if res.error is None or getattr(res, "kinematics", None) is not None:
-        out.extend(("", line) for line in res.summary().splitlines())
+        out.extend(("", line) for line in cache.summary(el.id, res).splitlines())
     out.append(("", f"computed in the app: {res.seconds * 1e3:.1f} ms"))
     return out
 
@@ -109,13 +139,15 @@ class DiagnosticsPanel(LazyRefresh, QWidget):
         layout.setContentsMargins(2, 2, 2, 2)
         layout.addWidget(self.text)
         self._stale = True
+        self.summaries = SummaryCache()   # the texts of the results shown lately
         controller.changed.connect(self._invalidate)
         self.refresh()
 
     def refresh(self) -> None:
         self._stale = False
         parts = []
-        for style, line in diagnostics_lines(self.controller):
+        self.summaries.forget_others(self.controller.scene.ids)
+        for style, line in diagnostics_lines(self.controller, self.summaries):
             text = html.escape(line)
             if style == "head":
                 parts.append(f"<p style='margin-top:6px; margin-bottom:2px'><b>{text}</b></p>")
