@@ -108,7 +108,9 @@ def run_tasks(fn: Callable[[Any, int], Any], ctx: Any, n: int, client=None, work
 def _on_cluster(fn, ctx, n: int, client, progress, cancel) -> list:
     import distributed   # noqa: PLC0415
 
-    remote = client.scatter(ctx, broadcast=True)
+    # one object under a key of its own: a tuple scattered as itself went out element by element
+    # under content-hashed keys, which the equal numbers of another call shared (and released)
+    (remote,) = client.scatter([ctx], broadcast=True, hash=False)
     futures = client.map(fn, [remote] * n, range(n), pure=False)
     index = {f.key: i for i, f in enumerate(futures)}
     out: list = [None] * n

@@ -83,3 +83,23 @@ def test_real_worker_processes_give_the_same_files(tmp_path):
     assert main(["study", str(p), "--out", str(tmp_path / "two"), "--workers", "2"]) == 0
     assert (tmp_path / "one" / "builds.csv").read_bytes() == (tmp_path / "two" / "builds.csv").read_bytes()
     assert (tmp_path / "one" / "envelope.csv").read_bytes() == (tmp_path / "two" / "envelope.csv").read_bytes()
+
+
+def _sum_with(ctx, i):
+    a, b, name = ctx
+    return (a + b * i, name)
+
+
+def test_a_tuple_context_is_one_object_on_the_cluster_whatever_the_calls_before(client):
+    """A tuple context went out element by element under content-hashed keys: equal numbers of two
+    calls shared a key, and a call released them under the next ("lost dependencies")."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    from mechsketch.core.studies.execute import run_tasks
+
+    want = [(3 + 0.5 * i, "x") for i in range(6)]
+    for _ in range(8):
+        assert run_tasks(_sum_with, (3, 0.5, "x"), 6, client=client) == want
+    with ThreadPoolExecutor(4) as pool:
+        runs = list(pool.map(lambda _: run_tasks(_sum_with, (3, 0.5, "x"), 6, client=client), range(8)))
+    assert runs == [want] * 8
