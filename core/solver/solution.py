@@ -50,6 +50,12 @@ def _xy2(p: tuple, n: int) -> np.ndarray:
     return out
 
 
+def _masked_max(r: np.ndarray, valid: np.ndarray | None) -> float:
+    """The greatest non-NaN value of ``r`` (rows, N) in the columns where ``valid`` (N,) (every
+    column when None), 0.0 when there is none."""
+    return float(np.nanmax(r if valid is None else r[:, valid], initial=0.0))
+
+
 def unwrap_finite(a: np.ndarray) -> np.ndarray:
     """np.unwrap along samples, restarting after NaN gaps (each finite run unwrapped on its own)."""
     out = np.array(a, dtype=float)
@@ -88,6 +94,7 @@ class Solution:
         self._all_valid = bool(valid.all()) if all_valid is None else all_valid   # known: no reduction
         self._quiet: bool | None = None
         self._rates_valid: np.ndarray | None = None
+        self._residual: float | None = None   # residual(), computed on first use
         self._joint_at = plan.joint_at   # joint -> (link reporting it, drawn point)
         frame = states.get(plan.linkage.ground)
         #: the frame's state if it is at rest as run_steps makes it (scalar zero rates): its
@@ -386,24 +393,40 @@ class Solution:
         how far its joints move from their drawn distances to its anchor (|rotation| ≠ 1). The
         last catches a group that puts a shared joint in the same wrong place for both links.
         """
-        link = self.plan.linkage
+        if self._residual is None:
+            self._residual = self._residual_now()
+        return self._residual
+
+    def _residual_now(self) -> float:
+        """:meth:`residual`, computed: the rigidity of every link and the agreement at every
+        shared joint stacked into one (rows, N) array each and reduced once (a max, so the same
+        value, bit for bit, as a pass per link and per joint)."""
+        link, n = self.plan.linkage, len(self)
+        valid = None if self._all_valid else self.valid
+        rots, reach = [], []
+        for k, st in self._states.items():
+            rots.append(np.broadcast_to(st.rot, (n,)))
+            reach.append(max((abs(_c(link.joint(j).at) - st.a0) for j in link.link(k).joints), default=0.0))
+        gaps, cuts = [], []   # R joints: carrier − first carrier; P joints: first carrier's axis × gap
+        for j in link.joints:
+            carriers = [c for c in link.links_of(j.id) if c in self._states]
+            if len(carriers) < 2:
+                continue
+            p0 = _c(j.at)
+            pts = [np.broadcast_to(self._states[c].point(p0), (n,)) for c in carriers]
+            if j.kind is JointKind.R:
+                gaps += [p - pts[0] for p in pts[1:]]
+            else:
+                _, u0 = _axis(link, j.id)
+                cuts.append((np.broadcast_to(self._states[carriers[0]].rot, (n,)) * u0, pts[1] - pts[0]))
         worst = 0.0
         with np.errstate(invalid="ignore"):
-            for k, st in self._states.items():
-                reach = max((abs(_c(link.joint(j).at) - st.a0) for j in link.link(k).joints), default=0.0)
-                r = np.abs(np.abs(np.broadcast_to(st.rot, (len(self),))) - 1.0) * reach
-                worst = max(worst, float(np.nanmax(r[self.valid], initial=0.0)))
-            for j in link.joints:
-                carriers = [c for c in link.links_of(j.id) if c in self._states]
-                if len(carriers) < 2:
-                    continue
-                p0 = _c(j.at)
-                pts = [np.broadcast_to(self._states[c].point(p0), (len(self),)) for c in carriers]
-                if j.kind is JointKind.R:
-                    r = max(np.nanmax(np.abs(p - pts[0])[self.valid], initial=0.0) for p in pts[1:])
-                else:
-                    _, u0 = _axis(link, j.id)
-                    u = np.broadcast_to(self._states[carriers[0]].rot, (len(self),)) * u0
-                    r = np.nanmax(np.abs(K.cross(u, pts[1] - pts[0]))[self.valid], initial=0.0)
-                worst = max(worst, float(r))
+            if rots:
+                r = np.abs(np.abs(np.stack(rots)) - 1.0) * np.array(reach)[:, None]
+                worst = max(worst, _masked_max(r, valid))
+            if gaps:
+                worst = max(worst, _masked_max(np.abs(np.stack(gaps)), valid))
+            if cuts:
+                u, d = (np.stack(z) for z in zip(*cuts))
+                worst = max(worst, _masked_max(np.abs(K.cross(u, d)), valid))
         return worst
