@@ -54,6 +54,27 @@ def _xy2(p: tuple, n: int) -> np.ndarray:
 _BLOCK = 16
 
 
+def _residual_layout(plan: StepPlan) -> tuple[dict, dict, list]:
+    """What :meth:`Solution.residual` reads of the linkage, made once per plan: the joints'
+    drawn points (complex, mm), each link's joints, and for every joint carried by two links or
+    more (id, is an R joint, unit axis of a P joint, the links carrying it)."""
+    lay = getattr(plan, "_residual_layout", None)
+    if lay is None:
+        lk = plan.linkage
+        drawn = {j.id: _c(j.at) for j in lk.joints}
+        link_joints = {k.id: k.joints for k in lk.links}
+        shared = []
+        for j in lk.joints:
+            links = lk.links_of(j.id)
+            if len(links) >= 2:
+                is_r = j.kind is JointKind.R
+                shared.append((j.id, is_r, None if is_r else _axis(lk, j.id)[1], links))
+        lay = (drawn, link_joints, shared)
+        if hasattr(plan, "__dict__"):
+            plan._residual_layout = lay
+    return lay
+
+
 def _masked_max(r: np.ndarray, valid: np.ndarray | None) -> float:
     """The greatest non-NaN value of ``r`` (rows, N) in the columns where ``valid`` (N,) (every
     column when None), 0.0 when there is none."""
@@ -406,32 +427,31 @@ class Solution:
         positions as its carriers computed them, written a block of rows at a time into one
         (rows, N) complex buffer and reduced once per block (a max of the same elementwise
         values: bit for bit a pass per link and per joint)."""
-        link, n, states = self.plan.linkage, len(self), self._states
+        drawn, link_joints, shared = _residual_layout(self.plan)
+        n, states = len(self), self._states
         valid = None if self._all_valid else self.valid
-        reach = np.array([max((abs(_c(link.joint(j).at) - st.a0) for j in link.link(k).joints), default=0.0)
-                          for k, st in states.items()])
         gaps: list[tuple] = []     # R joints: ((x, y) by the first carrier, (x, y) by another)
         worst = 0.0
         with np.errstate(invalid="ignore"):
-            for j in link.joints:
-                carriers = [c for c in link.links_of(j.id) if c in states]
+            for jid, is_r, u0, links in shared:
+                carriers = [c for c in links if c in states]
                 if len(carriers) < 2:
                     continue
-                p0 = _c(j.at)
-                if j.kind is JointKind.R:
+                p0 = drawn[jid]
+                if is_r:
                     a = states[carriers[0]].point_xy(p0)
                     gaps += [(a, states[c].point_xy(p0)) for c in carriers[1:]]
                 else:   # a P joint: one carrier's axis point from the other's axis line
-                    _, u0 = _axis(link, j.id)
                     u = np.broadcast_to(states[carriers[0]].rot, (n,)) * u0
                     d = states[carriers[1]].point(p0) - states[carriers[0]].point(p0)
                     worst = max(worst, _masked_max(np.abs(K.cross(u, np.broadcast_to(d, (n,))))[None], valid))
-            buf = np.empty((min(_BLOCK, max(len(states), len(gaps), 1)), n), dtype=complex)
-            rots = list(states.values())
+            rots = list(states.items())
+            reach = np.array([max((abs(drawn[j] - st.a0) for j in link_joints[k]), default=0.0) for k, st in rots])
+            buf = np.empty((min(_BLOCK, max(len(rots), len(gaps), 1)), n), dtype=complex)
             for s in range(0, len(rots), _BLOCK):
                 blk = buf[:len(rots[s:s + _BLOCK])]
-                for row, st in zip(blk, rots[s:s + _BLOCK]):
-                    row[:] = st.rot
+                for row, (_, st) in zip(blk, rots[s:s + _BLOCK]):
+                    row.real, row.imag = st.cs         # the parts of st.rot, without making it
                 r = np.abs(np.abs(blk) - 1.0) * reach[s:s + _BLOCK, None]
                 worst = max(worst, _masked_max(r, valid))
             for s in range(0, len(gaps), _BLOCK):
