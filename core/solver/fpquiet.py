@@ -45,4 +45,26 @@ def leave(token) -> None:
         _VAR.reset(token)
 
 
+def _works() -> bool:
+    """Whether the private numpy calls behave here as this module expects (checked once, at
+    import): a numpy whose private helpers changed signature or meaning falls back to
+    ``np.errstate`` instead of failing inside a solve."""
+    try:
+        before = np.geterr()
+        token = enter()
+        try:
+            quiet = np.geterr()
+        finally:
+            leave(token)
+        return (quiet["invalid"] == quiet["divide"] == quiet["over"] == "ignore"
+                and quiet["under"] == before["under"] and np.geterr() == before)
+    except (TypeError, ValueError, AttributeError, LookupError, RuntimeError):
+        return False
+
+
+if _VAR is not None and not _works():   # pragma: no cover - depends on numpy's internals
+    _VAR = None
+    _MADE.clear()
+
+
 __all__ = ["enter", "leave"]

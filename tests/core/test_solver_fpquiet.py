@@ -39,3 +39,28 @@ def test_keeps_the_callers_other_settings_and_nests():
         assert np.geterr()["invalid"] == "raise"
         with pytest.raises(FloatingPointError):
             np.array([1e-308]) * 1e-308
+
+
+def test_falls_back_to_errstate_where_numpys_private_calls_do_not_behave(monkeypatch):
+    """A numpy whose private helper changed its signature: the import-time check sends every
+    solve to ``np.errstate`` instead of failing inside it."""
+    import importlib
+
+    import numpy._core.umath as umath
+
+    def changed(*args, **kwargs):
+        raise TypeError("_make_extobj() got an unexpected keyword argument 'invalid'")
+
+    monkeypatch.setattr(umath, "_make_extobj", changed)
+    fresh = importlib.reload(fpquiet)
+    try:
+        assert fresh._VAR is None
+        t = fresh.enter()
+        try:
+            assert np.geterr()["invalid"] == "ignore"
+        finally:
+            fresh.leave(t)
+    finally:
+        monkeypatch.undo()
+        importlib.reload(fpquiet)
+    assert fpquiet._VAR is not None
