@@ -14,7 +14,10 @@ from __future__ import annotations
 from PySide6.QtCore import QSize, Qt
 from PySide6.QtWidgets import QApplication, QLabel, QWidget
 
+from .qtsafe import qt_safe
 
+
+@qt_safe
 class StatusLabel(QLabel):
     """A QLabel for a status-bar read-out that changes often (see the module docstring)."""
 

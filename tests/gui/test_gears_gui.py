@@ -8,6 +8,7 @@ import math
 
 import numpy as np
 import pytest
+from PySide6.QtWidgets import QLabel
 
 from mechsketch.core.analyses.gears import pitch
 from mechsketch.core.analyses.geneva import contact as contact_mod, driven
@@ -47,7 +48,7 @@ def test_the_elliptic_gears_turn_in_contact(shell, monkeypatch):
         assert _touch(item.gears) < 2e-3 * a        # polylines of 400 points: they touch at the pitch point
     view.grab()
     c.set_selection([("ellipses", "element", "ellipses")])
-    texts = " ".join(w.text() for w in parts.window.properties.findChildren(type(parts.window.frame_label)))
+    texts = " ".join(w.text() for w in parts.window.properties.findChildren(QLabel))
     assert "ψ' from 0.5385 to 1.857" in texts and "convex" in texts
 
 
@@ -75,7 +76,7 @@ def test_the_smooth_geneva_drive_turns_its_crank_by_the_gears(shell, monkeypatch
     assert "smooth Geneva drive" in item.label_text
     view.grab()
     c.set_selection([("indexer", "element", "indexer")])
-    texts = " ".join(w.text() for w in parts.window.properties.findChildren(type(parts.window.frame_label)))
+    texts = " ".join(w.text() for w in parts.window.properties.findChildren(QLabel))
     assert "jump" in texts and "% less" in texts
     diag = " ".join(parts.window.diagnostics.plain_text().split())
     assert "peak jerk" in diag and "geared Geneva 'indexer'" in diag

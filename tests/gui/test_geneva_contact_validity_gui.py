@@ -4,6 +4,7 @@ are the CLI summary; the numbers shown are those of the core."""
 from __future__ import annotations
 
 import numpy as np
+from PySide6.QtWidgets import QLabel
 
 from mechsketch.core import Scene, Workspace
 from mechsketch.core.cli import geneva_cmds
@@ -35,7 +36,7 @@ def test_soft_roller_plots_panel_overlay_and_summary_agree(shell):
     assert np.isfinite(rn[con.engaged]).all()           # the normal force is rigid-body statics: kept
     table = plots.data.make_table()                      # what "Export plot data as CSV" writes
     assert np.array_equal(table.column("contact_valid"), con.contact_valid.astype(float))
-    label = parts.window.properties.findChildren(type(parts.window.frame_label))
+    label = parts.window.properties.findChildren(QLabel)
     texts = " ".join(lb.text() for lb in label)
     assert f"outside its validity range at {con.validity.invalid_rows} of {con.validity.engaged_rows}" in texts
     diag = " ".join(parts.window.diagnostics.plain_text().split())

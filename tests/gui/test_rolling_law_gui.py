@@ -4,6 +4,7 @@ lever onto P0, the properties panel showing the law, no slider-circle handles.""
 from __future__ import annotations
 
 import numpy as np
+from PySide6.QtWidgets import QLabel
 
 from mechsketch.core import Scene, load_scene
 from mechsketch.core.design.rolling import design_rolling, requirements_of
@@ -42,7 +43,7 @@ def test_a_law_lever_is_drawn_animated_and_shown(shell, qtbot):
         assert np.min(np.linalg.norm(sp - fr.P0[k], axis=1)) < 0.05
     view.grab()
     c.set_selection([("press", "element", "press")])
-    texts = " ".join(w.text() for w in parts.window.properties.findChildren(type(parts.window.frame_label)))
+    texts = " ".join(w.text() for w in parts.window.properties.findChildren(QLabel))
     texts = units.plain(texts)   # shown with each value kept on one line with its unit
     assert "S5(θ): constant, travel 50.43 mm" in texts
     assert "slider_circle.radius" not in parts.window.properties.fields
