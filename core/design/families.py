@@ -206,14 +206,24 @@ def _rrr(M, H, li, lj, sigma):
     return M + d * (x + 1j * sigma * h)
 
 
-def _sixbar(p: list, th, sigma: np.ndarray, watt: bool = False) -> tuple:
-    ax, ay, dx, dy, a, b, c, ex, ey, fx, fy, l1, l2, px, py = p
+def _first_loop(p: list, th, sigma: np.ndarray, watt: bool) -> tuple:
+    """The four-bar loop A B C D every six-bar family starts with (p's first eleven entries: A, D,
+    crank a, coupler b, rocker c, E's offset on the coupler (Stephenson) or the rocker (Watt), F),
+    at crank angles th (rad): the two dyads' assembly signs s1, s2 from sigma and the points A, B,
+    C, D, E, F as complex numbers (mm)."""
+    ax, ay, dx, dy, a, b, c, ex, ey, fx, fy = p[:11]
     s1 = np.sign(sigma)
     s2 = np.where(np.abs(sigma) < 1.5, s1, -s1)
     A, D, Fp = ax + 1j * ay, dx + 1j * dy, fx + 1j * fy
     B = A + a * _expi(th)
     C = _rrr(B, D, b, c, s1)
     E = D + (ex + 1j * ey) * (C - D) / c if watt else B + (ex + 1j * ey) * (C - B) / b
+    return s1, s2, A, B, C, D, E, Fp
+
+
+def _sixbar(p: list, th, sigma: np.ndarray, watt: bool = False) -> tuple:
+    ax, ay, dx, dy, a, b, c, ex, ey, fx, fy, l1, l2, px, py = p
+    s1, s2, A, B, C, D, E, Fp = _first_loop(p, th, sigma, watt)
     G = _rrr(E, Fp, l1, l2, s2)
     P = E + (px + 1j * py) * (G - E) / l1
     mu1 = _abs(_im(_conj(C - B) * (C - D)) / (b * c))
@@ -240,12 +250,7 @@ def _sixbar_slider(p: list, th, sigma: np.ndarray, watt: bool = False) -> tuple:
     pin G on the fixed guide through F at angle g; its transmission quality is |cos| of the
     rod's angle to the guide's normal (the pressure angle's cosine), q / l1."""
     ax, ay, dx, dy, a, b, c, ex, ey, fx, fy, l1, g, px, py = p
-    s1 = np.sign(sigma)
-    s2 = np.where(np.abs(sigma) < 1.5, s1, -s1)
-    A, D, Fp = ax + 1j * ay, dx + 1j * dy, fx + 1j * fy
-    B = A + a * _expi(th)
-    C = _rrr(B, D, b, c, s1)
-    E = D + (ex + 1j * ey) * (C - D) / c if watt else B + (ex + 1j * ey) * (C - B) / b
+    s1, s2, A, B, C, D, E, Fp = _first_loop(p, th, sigma, watt)
     e = _expi(g)
     El = _conj(e) * (E - Fp)
     q = _sqrt(l1 * l1 - _im(El) * _im(El))
@@ -268,12 +273,7 @@ def _sixbar_guide(p: list, th, sigma: np.ndarray, watt: bool = False) -> tuple:
     the guide of the rocker pivoted at F (offset e), as the inverted slider-crank's; its
     transmission quality is t/|E − F|, the cosine of the guide's angle to the line F E's normal."""
     ax, ay, dx, dy, a, b, c, ex, ey, fx, fy, e, px, py = p
-    s1 = np.sign(sigma)
-    s2 = np.where(np.abs(sigma) < 1.5, s1, -s1)
-    A, D, Fp = ax + 1j * ay, dx + 1j * dy, fx + 1j * fy
-    B = A + a * _expi(th)
-    C = _rrr(B, D, b, c, s1)
-    E = D + (ex + 1j * ey) * (C - D) / c if watt else B + (ex + 1j * ey) * (C - B) / b
+    s1, s2, A, B, C, D, E, Fp = _first_loop(p, th, sigma, watt)
     r = E - Fp
     r2 = _abs2(r)
     t = s2 * _sqrt(r2 - e * e)
