@@ -32,6 +32,18 @@ def _bin(h, k: int, x: float, lo: float, w: float, nb: int) -> None:
 
 
 @numba.njit(inline="always")
+def _record(hist_up, hist_lo, ext, k: int, s: float, G: float, lo: float, w: float, nb: int) -> None:
+    """Sample k of one build: its band s ± G (mm) binned into the upper and lower histograms and
+    the band's extremes (ext[k] = min/max of s − G, min/max of s + G) updated."""
+    _bin(hist_up, k, s + G, lo, w, nb)
+    _bin(hist_lo, k, s - G, lo, w, nb)
+    ext[k, 0] = min(ext[k, 0], s - G)
+    ext[k, 1] = max(ext[k, 1], s - G)
+    ext[k, 2] = min(ext[k, 2], s + G)
+    ext[k, 3] = max(ext[k, 3], s + G)
+
+
+@numba.njit(inline="always")
 def _newton(nx: float, ny: float, ax: float, ay: float, r, S, k: int):
     """The local maximum over unit n of f(φ) = n·a + Σ r_J |S_Jᵀ n| near (nx, ny), by a safeguarded
     Newton's method on φ (f', f'' in closed form; the step turns n by Δφ = −f'/f'' along n⊥,
@@ -201,12 +213,7 @@ def reduce_point(pos, ok, nom, nrm, nvalid, S, T, smax, g, r, lo, width, hist_up
             if na + M > umax:
                 umax, kmax = na + M, k
             amax = max(amax, na)
-            _bin(hist_up, k, s + G, lo[k], width[k], nb)
-            _bin(hist_lo, k, s - G, lo[k], width[k], nb)
-            ext[k, 0] = min(ext[k, 0], s - G)
-            ext[k, 1] = max(ext[k, 1], s - G)
-            ext[k, 2] = min(ext[k, 2], s + G)
-            ext[k, 3] = max(ext[k, 3], s + G)
+            _record(hist_up, hist_lo, ext, k, s, G, lo[k], width[k], nb)
         # a failed build is infinitely off; one with no assembled sample 0; without pins |a|
         dev[b] = np.inf if failed else 0.0 if kmax < 0 else amax if P == 0 else _exact(pos, nom, b, rb, S, T, na_, mk,
                                                                                        kmax)
@@ -308,12 +315,7 @@ def build_point(b: int, pos, ok, nom, nrm, nvalid, S, T, Q, smax, g, r, lo, widt
         if na + M > umax:
             umax, kmax = na + M, k
         amax = max(amax, na)
-        _bin(hist_up, k, s + G, lo[k], width[k], nb)
-        _bin(hist_lo, k, s - G, lo[k], width[k], nb)
-        ext[k, 0] = min(ext[k, 0], s - G)
-        ext[k, 1] = max(ext[k, 1], s - G)
-        ext[k, 2] = min(ext[k, 2], s + G)
-        ext[k, 3] = max(ext[k, 3], s + G)
+        _record(hist_up, hist_lo, ext, k, s, G, lo[k], width[k], nb)
     dev[b] = np.inf if failed else 0.0 if kmax < 0 else amax if P == 0 else _exact_tight(pos, nom, rb, S, T, Q, na_, mk,
                                                                                           kmax)
 
