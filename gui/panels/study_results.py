@@ -139,6 +139,9 @@ class ParetoView(QWidget):
         self.front.setData(pos=self.xy, data=np.arange(len(self.xy)))
         self.chosen.setData(pos=np.zeros((0, 2)))
         p.setTitle(f"Pareto front: {len(self.xy)} designs (click one to preview it)", size="9pt")
+        # fit the view to the points now, not at the next paint: a click that comes first (or a
+        # point mapped to the screen) meets the range the user will see
+        p.getViewBox().updateAutoRange()
 
     def choose(self, index: int | None) -> None:
         """Ring the front point ``index`` (None: none)."""
