@@ -317,13 +317,19 @@ class _Gen:
                    gal if o >= 2 else "0.0")
 
     # -- the whole kernel ------------------------------------------------------------------
-    def source(self) -> str:
+    def groups(self) -> tuple:
+        """Emit the driver and every group's lines, then ``ok`` (all groups assembled); returns
+        the plan's steps."""
         steps = self.bp.plan.steps
         self.drive()
         for k, s in enumerate(steps):
             (self.rrr if s.group.kind is GroupKind.RRR else self.rrp)(k, s.group)
+        self.emit("ok = " + " & ".join(f"g{k}ok" for k in range(len(steps))))
+        return steps
+
+    def source(self) -> str:
+        steps = self.groups()
         e = self.emit
-        e("ok = " + " & ".join(f"g{k}ok" for k in range(len(steps))))
         e("sing = " + " | ".join(f"g{k}sing" for k in range(len(steps))))
         # the per-design reductions' terms are stored per sample and reduced after the samples'
         # loop (in the same order, so to the same bits): a reduction carried through the loop keeps

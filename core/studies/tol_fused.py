@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from ..solver.branches import CANDIDATE
-from ..solver.structure import MODAL_KINDS, GroupKind
+from ..solver.structure import MODAL_KINDS
 from . import tol_kernels
 from .engine import BatchPlan, Constants
 from .fused import HEADER, _Gen, _module, columns
@@ -42,12 +42,8 @@ class _TolGen(_Gen):
     """The source of one tolerance kernel (see the module docstring)."""
 
     def source(self) -> str:
-        steps = self.bp.plan.steps
-        self.drive()
-        for k, s in enumerate(steps):
-            (self.rrr if s.group.kind is GroupKind.RRR else self.rrp)(k, s.group)
+        steps = self.groups()
         e = self.emit
-        e("ok = " + " & ".join(f"g{k}ok" for k in range(len(steps))))
         modal = [k for k, s in enumerate(steps) if s.group.kind in MODAL_KINDS]
         for k in modal:     # stored, and reduced after the samples' loop: a reduction in the loop
             e(f"gaps{k}[k] = g{k}gap if (g{k}ok | g{k}sing) else np.inf")   # keeps it from vectorising
